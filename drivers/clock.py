@@ -1,0 +1,68 @@
+"""The one monotonic clock every driver stamps samples with, and device-to-host clock mapping."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+
+def monotonic_s() -> float:
+    """Seconds on the host's monotonic clock (``time.monotonic``): the instrument's single time base."""
+    return time.monotonic()
+
+
+class CounterClock:
+    """Maps a device sample counter to host monotonic time.
+
+    Streams arrive in bursts, so arrival times jitter by milliseconds. The device's own counter
+    ticks at a nominal rate; we estimate ``t = counter / rate + offset`` where ``offset`` is the
+    smallest observed ``arrival - counter / rate`` (the least-delayed packet) over a sliding
+    window, so the estimate follows slow drift between device and host clocks.
+
+    :param rate_hz: nominal device sample rate in Hz.
+    :param window_s: how long an offset estimate is trusted, in seconds.
+    """
+
+    def __init__(self, rate_hz: float, window_s: float = 10.0) -> None:
+        if rate_hz <= 0:
+            raise ValueError(f"rate_hz must be > 0, got {rate_hz}")
+        self.rate_hz = float(rate_hz)
+        self.window_s = window_s
+        self._offset: float | None = None
+        self._offset_time = 0.0
+
+    def stamp(self, counters: np.ndarray, arrival_s: float) -> np.ndarray:
+        """Timestamps in host seconds for ``counters`` (unwrapped) of a block that arrived at ``arrival_s``."""
+        device_s = counters.astype(np.float64) / self.rate_hz
+        candidate = arrival_s - float(device_s[-1])
+        stale = arrival_s - self._offset_time > self.window_s
+        if self._offset is None or candidate < self._offset or stale:
+            self._offset = candidate
+            self._offset_time = arrival_s
+        return device_s + self._offset
+
+    def reset(self) -> None:
+        """Forget the offset (after a reconnection the device counter may restart)."""
+        self._offset = None
+
+
+class CounterUnwrapper:
+    """Unwraps an ``bits``-bit wrapping device counter to a monotonically growing int64."""
+
+    def __init__(self, bits: int) -> None:
+        self.modulus = 1 << bits
+        self._last_raw: int | None = None
+        self._epoch = 0
+
+    def unwrap(self, raw: int) -> int:
+        """Unwrapped value of one raw counter reading."""
+        if self._last_raw is not None and raw < self._last_raw and self._last_raw - raw > self.modulus // 2:
+            self._epoch += self.modulus
+        self._last_raw = raw
+        return self._epoch + raw
+
+    def reset(self) -> None:
+        """Start again (the device restarted its counter)."""
+        self._last_raw = None
+        self._epoch = 0
