@@ -1,0 +1,123 @@
+"""Isokinetic dynamometers (Biodex-System-4-class) on a CAN bus.
+
+Open by URL; the scheme is the python-can interface, the host the channel::
+
+    open_dynamometer("virtual://dyno")                 # the simulator's bus
+    open_dynamometer("socketcan://can0?node=16&rate=100")
+
+Every motion command is checked against :class:`DynamometerLimits` before it is sent; a command
+outside them raises :class:`~drivers.errors.LimitViolationError` and nothing reaches the bus.
+"""
+
+from __future__ import annotations
+
+import math
+from abc import abstractmethod
+from dataclasses import asdict, dataclass
+from typing import Any, ClassVar
+
+from ..base import StreamingDevice
+from ..blocks import DynamometerBlock
+from ..errors import LimitViolationError
+from ..url import DeviceUrl, load_backend
+
+_CAN = ("drivers.dynamometer.can_driver", "CanDynamometer")
+#: scheme (python-can interface) -> (module, class); imported only when asked for
+BACKENDS: dict[str, tuple[str, str]] = {
+    name: _CAN for name in ("virtual", "socketcan", "pcan", "kvaser", "vector", "slcan", "udp_multicast", "ixxat")
+}
+
+
+@dataclass(frozen=True)
+class DynamometerLimits:
+    """Safety envelope the driver enforces (SI: rad, rad/s, N·m).
+
+    :ivar rom_min_rad: lowest position any command may reach.
+    :ivar rom_max_rad: highest position any command may reach.
+    :ivar max_speed_rad_s: highest speed any command may set.
+    :ivar max_torque_nm: highest torque limit any command may set.
+    """
+
+    rom_min_rad: float
+    rom_max_rad: float
+    max_speed_rad_s: float
+    max_torque_nm: float
+
+    @classmethod
+    def from_degrees(cls, rom_min_deg: float, rom_max_deg: float, max_speed_deg_s: float,
+                     max_torque_nm: float) -> "DynamometerLimits":
+        """Limits given in degrees (as a clinician sets them)."""
+        return cls(math.radians(rom_min_deg), math.radians(rom_max_deg), math.radians(max_speed_deg_s), max_torque_nm)
+
+    def __post_init__(self) -> None:
+        if not self.rom_min_rad < self.rom_max_rad:
+            raise ValueError("rom_min_rad must be below rom_max_rad")
+        if self.max_speed_rad_s <= 0 or self.max_torque_nm <= 0:
+            raise ValueError("speed and torque limits must be positive")
+
+    def check_position(self, position_rad: float) -> None:
+        if not self.rom_min_rad <= position_rad <= self.rom_max_rad:
+            raise LimitViolationError(
+                f"target {math.degrees(position_rad):.2f}° outside the allowed range "
+                f"{math.degrees(self.rom_min_rad):.1f}..{math.degrees(self.rom_max_rad):.1f}°")
+
+    def check_speed(self, speed_rad_s: float) -> None:
+        if not 0 < speed_rad_s <= self.max_speed_rad_s:
+            raise LimitViolationError(
+                f"speed {math.degrees(speed_rad_s):.2f}°/s outside 0..{math.degrees(self.max_speed_rad_s):.1f}°/s")
+
+    def check_torque(self, torque_nm: float) -> None:
+        if not 0 < torque_nm <= self.max_torque_nm:
+            raise LimitViolationError(f"torque limit {torque_nm:.1f} N·m outside 0..{self.max_torque_nm:.1f} N·m")
+
+    def as_dict(self) -> dict[str, float]:
+        return asdict(self)
+
+
+#: a conservative default for a relaxed-subject passive test: 0–100°, 30°/s, 150 N·m
+DEFAULT_LIMITS = DynamometerLimits.from_degrees(-40.0, 100.0, 30.0, 150.0)
+
+
+class Dynamometer(StreamingDevice):
+    """An isokinetic dynamometer: streams :class:`~drivers.blocks.DynamometerBlock`, takes motion commands."""
+
+    kind: ClassVar[str] = "dynamometer"
+    block_type = DynamometerBlock
+
+    @abstractmethod
+    def set_passive_isokinetic(self, speed_rad_s: float) -> None:
+        """Passive isokinetic mode at ``speed_rad_s`` (checked against the limits)."""
+
+    @abstractmethod
+    def set_range_of_motion(self, min_rad: float, max_rad: float) -> None:
+        """Device range-of-motion stops (checked against the limits)."""
+
+    @abstractmethod
+    def set_torque_limit(self, torque_nm: float) -> None:
+        """Device torque limit (checked against the limits)."""
+
+    @abstractmethod
+    def move_to(self, target_rad: float) -> None:
+        """Start an isokinetic move to ``target_rad`` (checked against the limits)."""
+
+    @abstractmethod
+    def halt(self) -> None:
+        """Controlled stop: decelerate and hold."""
+
+    @abstractmethod
+    def emergency_stop(self) -> None:
+        """Emergency stop: highest-priority frame, latched by the device until :meth:`reset`."""
+
+    @abstractmethod
+    def reset(self) -> None:
+        """Clear a latched emergency stop or fault."""
+
+
+def open_dynamometer(url: str, **kwargs: Any) -> Dynamometer:
+    """Make (not yet open) the dynamometer driver for ``url``.
+
+    :raises DeviceNotAvailableError: unknown interface or python-can back end not importable.
+    """
+    parsed = DeviceUrl.parse(url)
+    cls = load_backend(BACKENDS, parsed, "dynamometer")
+    return cls.from_url(parsed, **kwargs)
