@@ -1,0 +1,92 @@
+"""The replica leg: a knee with linear springs on wrapped paths, turning a rotary torque sensor.
+
+Each spring runs from a thigh anchor to a shank anchor over a pulley of radius r on the knee
+axis. With a and b the anchor distances from the axis and Δ the angle between them measured
+over the pulley, the path length is the two tangents plus the arc when it wraps, else the
+straight chord:
+
+    wraps if Δ > acos(r/a) + acos(r/b):   L = √(a²−r²) + √(b²−r²) + r·(Δ − acos(r/a) − acos(r/b))
+    otherwise:                            L = √(a² + b² − 2ab·cos Δ)
+
+Anterior (extensor-side) springs have Δ = Δ0 + θ, posterior ones Δ = Δ0 − θ, θ = knee flexion.
+The torque the leg exerts against flexion is Σ k·max(L − L0, 0)·dL/dθ plus the shank's weight
+moment (hip at 90°, thigh horizontal: −m·g·d·cos θ pulls toward flexion).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+G = 9.81
+
+
+@dataclass(frozen=True)
+class WrappedSpring:
+    """One spring: stiffness N/m, rest length m, anchors m, pulley radius m, side, Δ0 rad."""
+
+    stiffness_n_per_m: float
+    rest_length_m: float
+    thigh_anchor_m: float
+    shank_anchor_m: float
+    pulley_radius_m: float
+    anterior: bool
+    span0_rad: float
+
+    def length_m(self, knee_rad: np.ndarray) -> np.ndarray:
+        a, b, r = self.thigh_anchor_m, self.shank_anchor_m, self.pulley_radius_m
+        span = self.span0_rad + (knee_rad if self.anterior else -knee_rad)
+        tangent_angles = np.arccos(r / a) + np.arccos(r / b)
+        wrapped = np.sqrt(a * a - r * r) + np.sqrt(b * b - r * r) + r * (span - tangent_angles)
+        chord = np.sqrt(a * a + b * b - 2 * a * b * np.cos(span))
+        return np.where(span > tangent_angles, wrapped, chord)
+
+    def torque_nm(self, knee_rad: np.ndarray) -> np.ndarray:
+        """Torque against flexion (N·m): force times dL/dθ."""
+        h = 1e-6
+        dl = (self.length_m(knee_rad + h) - self.length_m(knee_rad - h)) / (2 * h)
+        force = self.stiffness_n_per_m * np.maximum(self.length_m(knee_rad) - self.rest_length_m, 0.0)
+        return force * dl
+
+
+def default_springs() -> list[WrappedSpring]:
+    """Two extensor-side springs (like the quadriceps) and one flexor-side spring (like a hamstring)."""
+    return [
+        WrappedSpring(2200.0, 0.300, 0.18, 0.16, 0.030, True, 3.0),
+        WrappedSpring(1500.0, 0.310, 0.18, 0.16, 0.035, True, 3.0),
+        WrappedSpring(900.0, 0.300, 0.20, 0.14, 0.030, False, 3.1),
+    ]
+
+
+@dataclass
+class ReplicaLeg:
+    """Knee held at a schedule of angles (0–88° every 8° by default), moved between them slowly."""
+
+    springs: list[WrappedSpring] = field(default_factory=default_springs)
+    shank_mass_kg: float = 0.9
+    shank_com_m: float = 0.18
+    hold_angles_deg: tuple[float, ...] = tuple(float(a) for a in range(0, 90, 8))
+    hold_s: float = 2.0
+    move_speed_deg_s: float = 16.0
+
+    def knee_deg(self, t_s: np.ndarray) -> np.ndarray:
+        """Knee flexion (deg) at times ``t_s``: holds and ramps, repeating."""
+        pts_t, pts_a = [0.0], [self.hold_angles_deg[0]]
+        for a0, a1 in zip(self.hold_angles_deg, self.hold_angles_deg[1:] + self.hold_angles_deg[:1]):
+            pts_t += [pts_t[-1] + self.hold_s, pts_t[-1] + self.hold_s + abs(a1 - a0) / self.move_speed_deg_s]
+            pts_a += [a0, a1]
+        period = pts_t[-1]
+        return np.interp(np.mod(np.asarray(t_s, dtype=float), period), pts_t, pts_a)
+
+    def torque_nm(self, knee_deg: np.ndarray) -> np.ndarray:
+        """Torque the leg exerts against flexion at the sensor (N·m)."""
+        th = np.deg2rad(np.asarray(knee_deg, dtype=float))
+        spring = sum(s.torque_nm(th) for s in self.springs)
+        return spring - self.shank_mass_kg * G * self.shank_com_m * np.cos(th)
+
+    def speed_rpm(self, t_s: np.ndarray) -> np.ndarray:
+        """Shaft speed (rpm) at times ``t_s``."""
+        h = 1e-3
+        deg_s = (self.knee_deg(np.asarray(t_s) + h) - self.knee_deg(np.asarray(t_s) - h)) / (2 * h)
+        return deg_s / 6.0

@@ -1,0 +1,261 @@
+"""Torque sensor driver with the pymodbus client (RTU over any pyserial URL, or TCP).
+
+pymodbus's asyncio client is used on a private event loop owned by the reader thread: its
+synchronous serial client sleeps in 1 ms steps while waiting for a reply and reached only
+75 polls/s at 115200 baud here, against about 380/s for the asyncio client on the same link.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import concurrent.futures
+import logging
+import queue
+import threading
+from collections.abc import Awaitable, Callable
+from typing import Any, TypeVar
+
+import numpy as np
+from pymodbus import FramerType, ModbusException
+from pymodbus.client import AsyncModbusSerialClient, AsyncModbusTcpClient
+from pymodbus.exceptions import ConnectionException
+from pymodbus.framer.rtu import FramerRTU
+
+from ..blocks import TorqueBlock
+from ..clock import monotonic_s
+from ..errors import CommandRefusedError, ConnectionLostError, DeviceInitializationError, DeviceTimeoutError, error_check
+from ..url import DeviceUrl
+from . import TorqueSensor
+from . import registers as r
+
+# pymodbus logs every failed transaction at ERROR; the driver counts and reports them itself
+logging.getLogger("pymodbus").setLevel(logging.CRITICAL)
+
+RPM_TO_RAD_S = 2 * np.pi / 60.0
+T = TypeVar("T")
+
+
+class ModbusTorqueSensor(TorqueSensor):
+    """Polls torque (and optionally speed) as fast as the link allows, or at ``rate`` Hz.
+
+    Every poll attempt takes the next value of the driver's sample counter, so a poll that
+    fails (timeout, bad CRC, exception response) is a counted gap, never a silent hole.
+
+    :param port: pyserial URL or path (RTU), or ``host:port`` (TCP).
+    :param framing: ``"rtu"`` or ``"tcp"``.
+    :param unit: Modbus unit (device) id.
+    :param baud: serial baud (RTU).
+    :param word_order: float word order of this transmitter.
+    :param rate: poll rate in Hz; None polls back to back.
+    :param read_speed: also read the speed registers (slows the poll by 4 characters).
+    :param timeout_s: response timeout of one poll.
+    """
+
+    def __init__(self, port: str, *, framing: str = "rtu", unit: int = 1, baud: int = 115200,
+                 word_order: r.WordOrder = "big", rate: float | None = None, read_speed: bool = False,
+                 timeout_s: float = 0.05, registers: r.RegisterMap = r.RegisterMap(), **kwargs: Any) -> None:
+        if framing not in ("rtu", "tcp"):
+            raise ValueError("framing must be 'rtu' or 'tcp'")
+        if word_order not in ("big", "little"):
+            raise ValueError("word_order must be 'big' or 'little'")
+        if framing == "rtu" and baud not in r.BAUD_CODES.values():
+            raise ValueError(f"baud {baud} not one of {sorted(r.BAUD_CODES.values())}")
+        self.port, self.framing, self.unit, self.baud = port, framing, unit, baud
+        self.word_order: r.WordOrder = word_order
+        self.read_speed = read_speed
+        self.registers = registers
+        self.timeout_s = timeout_s
+        self._nregs = 4 if read_speed else 2
+        limit = self.poll_rate_limit_hz
+        if rate is not None and rate > limit:
+            raise ValueError(f"{rate} Hz exceeds the {limit:.0f} polls/s that {baud} baud allows")
+        self.rate_hz = rate
+        self._client: AsyncModbusSerialClient | AsyncModbusTcpClient | None = None
+        self._loop = asyncio.new_event_loop()
+        self._loop_owner: threading.Thread | None = None
+        self._calls: queue.Queue[tuple[Callable[[], Awaitable[Any]], concurrent.futures.Future[Any]]] = queue.Queue()
+        self._counter = 0
+        self._next_poll = 0.0
+        self._bad_crc_seen = False
+        self.zero_offset_nm = float("nan")
+        super().__init__(**kwargs)
+
+    @classmethod
+    def from_url(cls, url: DeviceUrl, **kwargs: Any) -> "ModbusTorqueSensor":
+        opts = url.take({"unit": int, "baud": int, "word_order": str, "rate": float, "speed": bool,
+                         "timeout": float})
+        if "speed" in opts:
+            opts["read_speed"] = opts.pop("speed")
+        if "timeout" in opts:
+            opts["timeout_s"] = opts.pop("timeout")
+        if url.scheme == "modbus-tcp":
+            return cls(f"{url.host}:{url.port or 502}", framing="tcp", **{**opts, **kwargs})
+        port = f"socket://{url.host}:{url.port}" if url.scheme == "modbus-rtu+socket" else url.path
+        return cls(port, framing="rtu", **{**opts, **kwargs})
+
+    @property
+    def poll_rate_limit_hz(self) -> float:
+        if self.framing == "tcp":
+            return 5000.0
+        return r.max_poll_rate_hz(self.baud, self._nregs)
+
+    # -- link
+    def _trace(self, sending: bool, data: bytes) -> bytes:
+        """Check the CRC of every RTU response ourselves, so bad frames are counted as such."""
+        if not sending and self.framing == "rtu" and len(data) >= 4:
+            if not FramerRTU.check_CRC(data[:-2], int.from_bytes(data[-2:], "big")):
+                self._bad_crc_seen = True
+        return data
+
+    async def _connect(self) -> bool:
+        """Make the client inside the loop (pymodbus binds it to the running loop) and connect."""
+        if self.framing == "tcp":
+            host, port = self.port.rsplit(":", 1)
+            self._client = AsyncModbusTcpClient(host, port=int(port), timeout=self.timeout_s, retries=0,
+                                                reconnect_delay=0)
+        else:
+            self._client = AsyncModbusSerialClient(self.port, framer=FramerType.RTU, baudrate=self.baud,
+                                                   timeout=self.timeout_s, retries=0, reconnect_delay=0,
+                                                   trace_packet=self._trace)
+        return bool(await self._client.connect())
+
+    def _open_internal(self) -> None:
+        with error_check(f"{self.name}: cannot open {self.port}", DeviceInitializationError):
+            ok = self._run(self._connect)
+        if not ok:
+            self._close_internal()
+            raise DeviceInitializationError(f"{self.name}: cannot connect to {self.port}")
+        # the transmitter must answer before we call it open
+        regs = self._read_registers(self.registers.zero_offset, 2)
+        if regs is None:
+            self._close_internal()
+            raise DeviceInitializationError(f"{self.name}: unit {self.unit} on {self.port} does not answer")
+        self.zero_offset_nm = r.decode_float(regs, self.word_order)
+
+    def _close_internal(self) -> None:
+        if self._client is not None:
+            try:
+                self._client.close()
+            except Exception:  # noqa: BLE001
+                pass
+            self._client = None
+
+    def _run(self, make: Callable[[], Awaitable[T]]) -> T:
+        """Run a client coroutine on the driver's loop, from whichever thread calls.
+
+        The reader thread owns the loop while streaming; other threads hand it the call.
+        """
+        owner = self._loop_owner
+        if owner is None or owner is threading.current_thread() or not owner.is_alive():
+            return self._loop.run_until_complete(make())  # type: ignore[arg-type]
+        future: concurrent.futures.Future[Any] = concurrent.futures.Future()
+        self._calls.put((make, future))
+        return future.result(timeout=5.0)
+
+    def _service_calls(self) -> None:
+        while True:
+            try:
+                make, future = self._calls.get_nowait()
+            except queue.Empty:
+                return
+            try:
+                future.set_result(self._loop.run_until_complete(make()))  # type: ignore[arg-type]
+            except BaseException as err:  # noqa: BLE001 - handed back to the caller
+                future.set_exception(err)
+
+    def _read_registers(self, address: int, count: int) -> list[int] | None:
+        """One FC03 read; None if it failed in a way that is counted (timeout, CRC, exception)."""
+        client = self._client
+        if client is None:
+            raise ConnectionLostError(f"{self.name}: not connected")
+        self._bad_crc_seen = False
+        try:
+            rr = self._run(lambda: client.read_holding_registers(address, count=count, device_id=self.unit))
+        except ConnectionException as err:
+            raise ConnectionLostError(f"{self.name}: link to {self.port} lost: {err}") from err
+        except (ModbusException, asyncio.TimeoutError):
+            if self._bad_crc_seen:
+                self.stats.crc_errors += 1
+            else:
+                self.stats.malformed_frames += 1
+            return None
+        except OSError as err:
+            raise ConnectionLostError(f"{self.name}: link to {self.port} lost: {err}") from err
+        if rr.isError():
+            self.stats.malformed_frames += 1
+            return None
+        if self._client is None or not self._client.connected:
+            raise ConnectionLostError(f"{self.name}: link to {self.port} lost")
+        return list(rr.registers)
+
+    # -- polling
+    def _read_internal(self) -> TorqueBlock | None:
+        """Poll for ~20 ms and return what was read as one block."""
+        self._loop_owner = threading.current_thread()
+        self._service_calls()
+        counters: list[int] = []
+        times: list[float] = []
+        torque: list[float] = []
+        speed: list[float] = []
+        end = monotonic_s() + 0.02
+        while monotonic_s() < end:
+            if self.rate_hz is not None:
+                now = monotonic_s()
+                if self._next_poll > now:
+                    if self._next_poll > end:
+                        break
+                    _sleep_until(self._next_poll)
+                self._next_poll = max(self._next_poll + 1.0 / self.rate_hz, monotonic_s() - 0.5 / self.rate_hz)
+            t_request = monotonic_s()
+            self._counter += 1
+            regs = self._read_registers(self.registers.torque, self._nregs)
+            if regs is None:
+                continue
+            counters.append(self._counter)
+            times.append(0.5 * (t_request + monotonic_s()))
+            torque.append(r.decode_float(regs[0:2], self.word_order))
+            speed.append(r.decode_float(regs[2:4], self.word_order) * RPM_TO_RAD_S if self.read_speed else np.nan)
+        if not counters:
+            return None
+        return TorqueBlock(device=self.name, counter=np.array(counters, dtype=np.int64), time_s=np.array(times),
+                           torque_nm=np.array(torque), speed_rad_s=np.array(speed))
+
+    def tare(self) -> float:
+        """Write the tare register, then read back the new zero offset (N·m).
+
+        :raises CommandRefusedError: the transmitter answered with an exception.
+        :raises DeviceTimeoutError: no answer.
+        """
+        client = self._client
+        if client is None:
+            raise ConnectionLostError(f"{self.name}: not connected")
+        try:
+            rr = self._run(lambda: client.write_register(self.registers.tare, 1, device_id=self.unit))
+        except (ModbusException, asyncio.TimeoutError) as err:
+            raise DeviceTimeoutError(f"{self.name}: tare not answered: {err}") from err
+        if rr.isError():
+            raise CommandRefusedError(f"{self.name}: tare refused ({rr})")
+        regs = self._run(lambda: self._read_zero())
+        if regs is None:
+            raise DeviceTimeoutError(f"{self.name}: zero offset not readable after tare")
+        self.zero_offset_nm = r.decode_float(regs, self.word_order)
+        return self.zero_offset_nm
+
+    async def _read_zero(self) -> list[int] | None:
+        assert self._client is not None
+        rr = await self._client.read_holding_registers(self.registers.zero_offset, count=2, device_id=self.unit)
+        return None if rr.isError() else list(rr.registers)
+
+    def identity(self) -> dict[str, Any]:
+        d = super().identity()
+        d.update(port=self.port, framing=self.framing, unit=self.unit, baud=self.baud, word_order=self.word_order,
+                 poll_rate_hz=self.rate_hz, poll_rate_limit_hz=self.poll_rate_limit_hz,
+                 zero_offset_nm=self.zero_offset_nm, registers=vars(self.registers))
+        return d
+
+
+def _sleep_until(deadline: float) -> None:
+    import time
+
+    while (left := deadline - monotonic_s()) > 0:
+        time.sleep(min(left, 0.001))
