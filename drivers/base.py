@@ -15,6 +15,7 @@ from __future__ import annotations
 import logging
 import queue
 import threading
+import time
 from abc import ABC, abstractmethod
 from dataclasses import asdict, dataclass, field
 from typing import Any, ClassVar
@@ -52,6 +53,7 @@ class DeviceStats:
     first_time_s: float = float("nan")
     last_time_s: float = float("nan")
     last_counter: int = -1
+    reader_cpu_s: float = 0.0
     gap_log: list[tuple[int, int]] = field(default_factory=list)
 
     def rate_hz(self) -> float:
@@ -119,7 +121,10 @@ class StreamingDevice(ABC):
         """Tell the device to start streaming (after every (re)connection). Default: nothing."""
 
     def _on_stream_stop(self) -> None:
-        """Tell the device to stop streaming. Must not raise. Default: nothing."""
+        """Tell the device to stop streaming and hand what is still in flight to :meth:`_deliver`.
+
+        Must not raise. Default: nothing.
+        """
 
     def identity(self) -> dict[str, Any]:
         """Device identity and settings for the trial record (override to add calibration etc.)."""
@@ -211,6 +216,12 @@ class StreamingDevice(ABC):
 
     # ------------------------------------------------------------------ reader thread
     def _reader(self) -> None:
+        try:
+            self._reader_loop()
+        finally:
+            self.stats.reader_cpu_s = time.thread_time()
+
+    def _reader_loop(self) -> None:
         while self._running.is_set():
             if not self._connected:
                 self._try_reconnect()
@@ -238,9 +249,13 @@ class StreamingDevice(ABC):
                 continue
             self._last_data_s = now
             self._silent_reported = False
-            block = self._account(block)
-            if len(block):
-                self._events.put(block)
+            self._deliver(block)
+
+    def _deliver(self, block: SampleBlock) -> None:
+        """Account for ``block`` and queue it for the consumer (also used by hooks that drain on stop)."""
+        block = self._account(block)
+        if len(block):
+            self._events.put(block)
 
     def _account(self, block: SampleBlock) -> SampleBlock:
         """Update gap/duplicate counts; drop samples whose counter does not advance."""

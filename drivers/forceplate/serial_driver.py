@@ -53,6 +53,7 @@ class SerialForcePlate(ForcePlate):
         self._unwrap = CounterUnwrapper(p.COUNTER_BITS)
         self._clock = CounterClock(rate)
         self._replies: list[tuple[p.Kind, bytes]] = []
+        self._streaming = False
         self._tare_lock = threading.Lock()
         self._tare_need = 0
         self._tare_volts: list[np.ndarray] = []
@@ -99,13 +100,16 @@ class SerialForcePlate(ForcePlate):
     def _on_stream_start(self) -> None:
         self._unwrap.reset()
         self._clock.reset()
+        self._streaming = True
         self._command(p.Command.START)
 
     def _on_stream_stop(self) -> None:
         try:
-            self._command(p.Command.STOP)
+            self._command(p.Command.STOP)  # samples before the STOP reply are delivered
         except Exception:  # noqa: BLE001 - best effort on the way out
             pass
+        finally:
+            self._streaming = False
 
     def _write(self, data: bytes) -> None:
         if self._serial is None:
@@ -136,7 +140,9 @@ class SerialForcePlate(ForcePlate):
                             f"{self.name}: {command.name} refused: {p.Status(payload[1]).name}",
                             error_code=payload[1])
                     return payload
-            self._ingest(self._read_bytes(), monotonic_s())
+            block = self._ingest(self._read_bytes(), monotonic_s())
+            if block is not None and self._streaming:
+                self._deliver(block)  # samples in flight while we wait are kept, never dropped
         raise DeviceTimeoutError(f"{self.name}: no reply to {command.name} within {self.command_timeout_s} s")
 
     # -- samples

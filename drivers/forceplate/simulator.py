@@ -59,6 +59,7 @@ class ForcePlateSimulator:
         self._stream_t0 = 0.0
         self._vanished_at: float | None = None
         self._disconnect_done = False
+        self._table: np.ndarray | None = None
         if autostart:
             self.start()
 
@@ -115,10 +116,13 @@ class ForcePlateSimulator:
 
     def loads_at(self, counters: np.ndarray) -> np.ndarray:
         """Six true loads (n, 6) at device counters, plus sensor noise."""
-        t = counters / self.rate_hz
         if self.jig is not None:
-            st = self.jig.state(t)
-            loads = np.hstack([st.force_n, st.moment_nm])
+            # the operator's trial repeats: evaluate the physics once per period, then index it
+            n = int(round(self.jig.profile.duration_s * self.rate_hz))
+            if self._table is None or self._table.shape[0] != n:
+                st = self.jig.state(np.arange(n) / self.rate_hz)
+                self._table = np.hstack([st.force_n, st.moment_nm])
+            loads = self._table[counters % n]
         else:
             loads = np.zeros((t.size, 6))
         sd = self.noise_n * self.faults.noise_scale
@@ -128,7 +132,7 @@ class ForcePlateSimulator:
 
     def _run(self) -> None:
         parser = p.FrameParser()
-        period = 0.005
+        period = 0.010
         while not self._stop.is_set():
             now = time.monotonic()
             if self._vanished_at is not None:

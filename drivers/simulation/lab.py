@@ -1,0 +1,63 @@
+"""The simulated lab: all three device simulators at once, each reachable by its driver URL."""
+
+from __future__ import annotations
+
+import itertools
+import os
+from dataclasses import dataclass, field
+
+from ..dynamometer.simulator import DynamometerSimulator
+from ..forceplate.simulator import ForcePlateSimulator
+from ..torque.simulator import TorqueSensorSimulator
+from .aads_jig import AadsJig, AfoProperties
+from .faults import FaultConfig
+from .replica_leg import ReplicaLeg
+from .seated_leg import SeatedLeg
+
+_channel_ids = itertools.count()
+
+
+@dataclass
+class LabConfig:
+    """What the simulated lab holds (defaults: spring 2, operator 1, knee at hip 90°)."""
+
+    afo: AfoProperties = field(default_factory=AfoProperties)
+    operator: int = 1
+    leg: SeatedLeg = field(default_factory=SeatedLeg)
+    replica: ReplicaLeg = field(default_factory=ReplicaLeg)
+    plate_rate_hz: int = 1000
+    telemetry_rate_hz: int = 100
+    torque_baud: int = 115200
+    plate_faults: FaultConfig = field(default_factory=FaultConfig)
+    dyno_faults: FaultConfig = field(default_factory=FaultConfig)
+    torque_faults: FaultConfig = field(default_factory=FaultConfig)
+    seed: int = 0
+
+
+class SimulatedLab:
+    """Starts the force plate, dynamometer and torque sensor simulators; ``urls`` names their drivers."""
+
+    def __init__(self, config: LabConfig | None = None) -> None:
+        c = self.config = config or LabConfig()
+        channel = f"lab-{os.getpid()}-{next(_channel_ids)}"
+        self.jig = AadsJig(c.afo, operator=c.operator, seed=c.seed)
+        self.force_plate = ForcePlateSimulator(self.jig, c.plate_rate_hz, faults=c.plate_faults, seed=c.seed)
+        self.dynamometer = DynamometerSimulator(c.leg, channel=channel, telemetry_rate_hz=c.telemetry_rate_hz,
+                                                faults=c.dyno_faults, seed=c.seed)
+        self.torque_sensor = TorqueSensorSimulator(c.replica, baud=c.torque_baud, faults=c.torque_faults, seed=c.seed)
+        self.urls = {
+            "force_plate": f"{self.force_plate.url}?rate={c.plate_rate_hz}",
+            "dynamometer": f"virtual://{channel}?rate={c.telemetry_rate_hz}",
+            "torque_sensor": self.torque_sensor.url,
+        }
+
+    def close(self) -> None:
+        self.force_plate.close()
+        self.dynamometer.close()
+        self.torque_sensor.close()
+
+    def __enter__(self) -> "SimulatedLab":
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
