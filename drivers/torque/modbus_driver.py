@@ -220,6 +220,16 @@ class ModbusTorqueSensor(TorqueSensor):
         return TorqueBlock(device=self.name, counter=np.array(counters, dtype=np.int64), time_s=np.array(times),
                            torque_nm=np.array(torque), speed_rad_s=np.array(speed))
 
+    def read_torque_nm(self) -> float:
+        """One poll of the torque register outside streaming (N·m).
+
+        :raises DeviceTimeoutError: the poll failed (timeout, bad CRC or exception response).
+        """
+        regs = self._read_registers(self.registers.torque, 2)
+        if regs is None:
+            raise DeviceTimeoutError(f"{self.name}: torque poll failed")
+        return r.decode_float(regs, self.word_order)
+
     def tare(self) -> float:
         """Write the tare register, then read back the new zero offset (N·m).
 

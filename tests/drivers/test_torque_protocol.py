@@ -1,0 +1,93 @@
+"""Torque transmitter: register encoding, wire timing and exact Modbus RTU bytes."""
+
+from __future__ import annotations
+
+import pytest
+from pymodbus.framer.rtu import FramerRTU
+
+from drivers.errors import DeviceTimeoutError
+from drivers.torque import open_torque_sensor
+from drivers.torque import registers as r
+from tests.protocol_peer import expected_protocol
+
+
+def rtu(hexbody: str) -> bytes:
+    body = bytes.fromhex(hexbody)
+    return body + FramerRTU.compute_CRC(body).to_bytes(2, "big")
+
+
+def test_modbus_crc_of_the_ato_manual_frame() -> None:
+    # the ATO manual's torque request: 01 03 00 00 00 02 C4 0B
+    assert rtu("010300000002") == bytes.fromhex("010300000002c40b")
+
+
+@pytest.mark.parametrize("value,order,regs", [(1.5, "big", [16320, 0]), (1.5, "little", [0, 16320]),
+                                              (-2.25, "big", [0xC010, 0]), (0.0, "little", [0, 0])])
+def test_float_word_order(value: float, order: r.WordOrder, regs: list[int]) -> None:
+    assert r.encode_float(value, order) == regs
+    assert r.decode_float(regs, order) == value
+
+
+def test_word_order_mismatch_gives_wrong_value() -> None:
+    assert r.decode_float([16320, 0], "little") != 1.5
+
+
+@pytest.mark.parametrize("baud,expected", [(9600, 40), (38400, 157), (115200, 458)])
+def test_poll_rate_limit(baud: int, expected: int) -> None:
+    assert round(r.max_poll_rate_hz(baud)) == expected
+
+
+def test_rate_beyond_the_wire_is_refused() -> None:
+    with pytest.raises(ValueError, match="polls/s"):
+        open_torque_sensor("modbus-rtu:///dev/null?baud=9600&rate=100")
+
+
+def test_exact_bytes_open_poll_and_tare() -> None:
+    zero = rtu("010304" + "00000000")
+    pairs = [
+        (rtu("010300210002"), zero),                          # open: read the zero offset
+        (rtu("010300000002"), rtu("010304" + "3fc00000")),    # poll torque: 1.5 N·m, big word order
+        (rtu("010600200001"), rtu("010600200001")),           # tare: write 1 to 0x0020, echoed
+        (rtu("010300210002"), rtu("010304" + "3fc00000")),    # read back the new zero: 1.5 N·m
+    ]
+    with expected_protocol(pairs) as peer:
+        sensor = open_torque_sensor(f"modbus-rtu+socket://127.0.0.1:{peer.port}?unit=1&baud=115200")
+        sensor.open()
+        assert sensor.zero_offset_nm == 0.0
+        assert sensor.read_torque_nm() == 1.5
+        assert sensor.tare() == 1.5
+        sensor.close()
+
+
+def test_little_word_order_and_other_unit() -> None:
+    pairs = [(rtu("070300210002"), rtu("070304" + "00000000")),
+             (rtu("070300000002"), rtu("070304" + "0000" + "c010"))]
+    with expected_protocol(pairs) as peer:
+        sensor = open_torque_sensor(f"modbus-rtu+socket://127.0.0.1:{peer.port}?unit=7&word_order=little")
+        sensor.open()
+        assert sensor.read_torque_nm() == -2.25
+        sensor.close()
+
+
+def test_bad_crc_reply_is_counted_and_typed() -> None:
+    reply = bytearray(rtu("010304" + "3fc00000"))
+    reply[-1] ^= 0xFF
+    pairs = [(rtu("010300210002"), rtu("010304" + "00000000")), (rtu("010300000002"), bytes(reply))]
+    with expected_protocol(pairs) as peer:
+        sensor = open_torque_sensor(f"modbus-rtu+socket://127.0.0.1:{peer.port}?timeout=0.1")
+        sensor.open()
+        with pytest.raises(DeviceTimeoutError):
+            sensor.read_torque_nm()
+        assert sensor.stats.crc_errors == 1
+        sensor.close()
+
+
+def test_exception_response_is_typed() -> None:
+    pairs = [(rtu("010300210002"), rtu("010304" + "00000000")), (rtu("010300000002"), rtu("018302"))]
+    with expected_protocol(pairs) as peer:
+        sensor = open_torque_sensor(f"modbus-rtu+socket://127.0.0.1:{peer.port}")
+        sensor.open()
+        with pytest.raises(DeviceTimeoutError):
+            sensor.read_torque_nm()
+        assert sensor.stats.malformed_frames == 1
+        sensor.close()
