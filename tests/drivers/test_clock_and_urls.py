@@ -1,0 +1,45 @@
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from drivers import DeviceNotAvailableError, open_dynamometer, open_torque_sensor
+from drivers.clock import CounterClock, CounterUnwrapper
+from drivers.url import DeviceUrl
+
+
+def test_unwrapper_crosses_the_wrap() -> None:
+    u = CounterUnwrapper(16)
+    assert [u.unwrap(c) for c in (65534, 65535, 0, 1)] == [65534, 65535, 65536, 65537]
+
+
+def test_counter_clock_takes_the_least_delayed_packet() -> None:
+    clock = CounterClock(1000.0)
+    t1 = clock.stamp(np.arange(0, 10), arrival_s=100.012)  # arrived 3 ms late
+    t2 = clock.stamp(np.arange(10, 20), arrival_s=100.0195)  # arrived 0.5 ms late
+    assert t2[-1] == pytest.approx(100.0195)
+    assert t1[-1] == pytest.approx(100.012)
+    assert np.diff(t2) == pytest.approx(np.full(9, 0.001))
+
+
+def test_url_parsing() -> None:
+    u = DeviceUrl.parse("modbus-rtu:///dev/ttyUSB0?unit=1&baud=115200")
+    assert (u.scheme, u.path, u.query) == ("modbus-rtu", "/dev/ttyUSB0", {"unit": "1", "baud": "115200"})
+    assert u.take({"unit": int, "baud": int}) == {"unit": 1, "baud": 115200}
+    with pytest.raises(ValueError):
+        DeviceUrl.parse("no-scheme")
+
+
+def test_unknown_schemes_are_typed_errors() -> None:
+    with pytest.raises(DeviceNotAvailableError):
+        open_torque_sensor("modbus-ascii:///dev/ttyUSB0")
+    with pytest.raises(DeviceNotAvailableError):
+        open_dynamometer("carrier-pigeon://coop")
+
+
+def test_unreachable_device_is_an_initialisation_error() -> None:
+    from drivers import DeviceInitializationError
+
+    sensor = open_torque_sensor("modbus-rtu+socket://127.0.0.1:9?timeout=0.05")
+    with pytest.raises(DeviceInitializationError):
+        sensor.open()
