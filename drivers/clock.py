@@ -18,7 +18,8 @@ class CounterClock:
     Streams arrive in bursts, so arrival times jitter by milliseconds. The device's own counter
     ticks at a nominal rate; we estimate ``t = counter / rate + offset`` where ``offset`` is the
     smallest observed ``arrival - counter / rate`` (the least-delayed packet) over a sliding
-    window, so the estimate follows slow drift between device and host clocks.
+    window, so the estimate follows slow drift between device and host clocks. A smaller offset
+    is approached by at most half a sample period per block, so timestamps never run backwards.
 
     :param rate_hz: nominal device sample rate in Hz.
     :param window_s: how long an offset estimate is trusted, in seconds.
@@ -37,8 +38,11 @@ class CounterClock:
         device_s = counters.astype(np.float64) / self.rate_hz
         candidate = arrival_s - float(device_s[-1])
         stale = arrival_s - self._offset_time > self.window_s
-        if self._offset is None or candidate < self._offset or stale:
-            self._offset = candidate
+        if self._offset is None or stale:
+            self._offset = candidate if self._offset is None else max(candidate, self._offset)
+            self._offset_time = arrival_s
+        elif candidate < self._offset:
+            self._offset = max(candidate, self._offset - 0.5 / self.rate_hz)
             self._offset_time = arrival_s
         return device_s + self._offset
 

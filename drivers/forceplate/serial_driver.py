@@ -121,11 +121,10 @@ class SerialForcePlate(ForcePlate):
         if self._serial is None:
             raise ConnectionLostError(f"{self.name}: not connected")
         with error_check(f"{self.name}: read from {self.port} failed", ConnectionLostError):
-            waiting = self._serial.in_waiting
-            data = self._serial.read(max(1, min(waiting, 65536)))
-            if waiting and len(data) < waiting:  # pragma: no cover - defensive
-                data += self._serial.read(self._serial.in_waiting)
-            return data
+            # ask for at least 16 samples' worth (the AMTI SDK's block); the read returns when they
+            # are in or the 20 ms port timeout passes. Not `in_waiting` alone: pyserial's socket://
+            # reports 1 for "some bytes", which made the reader fetch one byte per call.
+            return self._serial.read(max(self._serial.in_waiting, 16 * p.SAMPLE_FRAME_BYTES))
 
     def _command(self, command: p.Command, argument: int = 0, expect: p.Kind = p.Kind.REPLY) -> bytes:
         """Send a command and wait for its reply (samples arriving meanwhile are kept)."""
