@@ -55,13 +55,13 @@ def run(quick: bool = False) -> dict[str, Any]:
     sim = ForcePlateSimulator(AadsJig(seed=1), 1000)
     r = _stream(open_force_plate(f"{sim.url}?rate=1000"), seconds)
     sim.close()
-    limit = PLATE_BAUD / (fp_protocol.SAMPLE_FRAME_BYTES * 10)
+    limit = fp_protocol.max_sample_rate_hz(PLATE_BAUD)
     out["force_plate"] = {**r, "nominal_hz": 1000.0, "wire_limit_hz": limit, "wire_limit_ratio": r["rate_hz"] / limit}
 
     sim = DynamometerSimulator(channel="bench-dyno", telemetry_rate_hz=100)
     r = _stream(open_dynamometer("virtual://bench-dyno?rate=100"), seconds)
     sim.close()
-    limit = CAN_BITRATE / dyn_protocol.CAN_BITS_PER_8_BYTE_FRAME
+    limit = dyn_protocol.max_frame_rate_hz(CAN_BITRATE)
     out["dynamometer"] = {**r, "nominal_hz": 100.0, "wire_limit_hz": limit, "wire_limit_ratio": r["rate_hz"] / limit}
 
     sim = TorqueSensorSimulator(baud=TORQUE_BAUD)

@@ -11,6 +11,7 @@ from typing import Any
 import numpy as np
 
 from drivers import open_dynamometer, open_force_plate, open_torque_sensor
+from drivers.dynamometer import protocol as dyn_protocol
 from drivers.forceplate import protocol as fp_protocol
 from drivers.simulation.faults import FaultConfig
 from drivers.simulation.lab import LabConfig, SimulatedLab
@@ -20,12 +21,11 @@ from .stream import StreamResult, stream_devices
 
 
 def _wire_limit_hz(name: str, lab: SimulatedLab) -> float:
-    c = lab.config
     if name == "force_plate":
-        return 921600 / (fp_protocol.SAMPLE_FRAME_BYTES * 10)
+        return fp_protocol.max_sample_rate_hz(921600)
     if name == "dynamometer":
-        return 1_000_000 / 135
-    return registers.max_poll_rate_hz(c.torque_baud)
+        return dyn_protocol.max_frame_rate_hz()
+    return registers.max_poll_rate_hz(lab.config.torque_baud)
 
 
 def run_streams(seconds: float, config: LabConfig | None = None) -> tuple[dict[str, StreamResult], SimulatedLab]:

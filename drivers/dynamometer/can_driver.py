@@ -50,7 +50,7 @@ class CanDynamometer(Dynamometer):
         self._heartbeat_stop = threading.Event()
         self._heartbeat_thread: threading.Thread | None = None
         self._heartbeat_suspended = False
-        self.error_frames = 0
+        self._reader_owns_bus = False  # once streaming, only the reader thread receives
         super().__init__(**kwargs)
 
     @classmethod
@@ -65,8 +65,7 @@ class CanDynamometer(Dynamometer):
             extra = {} if self.interface == "virtual" else {"bitrate": self.bitrate}
             self._bus = can.Bus(interface=self.interface, channel=self.channel, **extra)
         self._start_heartbeat()
-        # the device must answer before we call it open
-        self._reader_owns_bus = False
+        self._reader_owns_bus = False  # the device must answer before we call it open
         self._command(p.Command.SET_TELEMETRY_RATE, self.telemetry_rate_hz)
 
     def _close_internal(self) -> None:
@@ -154,7 +153,6 @@ class CanDynamometer(Dynamometer):
                 break
             wait = 0.0
             if msg.is_error_frame:
-                self.error_frames += 1
                 self.stats.crc_errors += 1
                 continue
             aid, data = msg.arbitration_id, bytes(msg.data)

@@ -39,6 +39,11 @@ TORQUE_LIMIT_LSB_NM = 0.1
 CAN_BITS_PER_8_BYTE_FRAME = 135  # 11-bit id, 8 data bytes, worst-case bit stuffing + IFS
 
 TELEMETRY = struct.Struct("<Hhhh")
+
+
+def max_frame_rate_hz(bitrate: int = 1_000_000) -> float:
+    """Highest rate of 8-byte frames a bus of ``bitrate`` bit/s carries (worst-case stuffing)."""
+    return bitrate / CAN_BITS_PER_8_BYTE_FRAME
 STATUS = struct.Struct("<BBBHHB")
 ACK = struct.Struct("<BBB")
 

@@ -66,6 +66,11 @@ class Status(enum.IntEnum):
 SUPPORTED_RATES_HZ = (10, 20, 50, 100, 200, 250, 500, 600, 800, 900, 1000, 1200, 1500, 1800, 2000)
 
 
+def max_sample_rate_hz(baud: int) -> float:
+    """Highest sample rate a serial link of ``baud`` can carry (Hz): 35-byte frames, 10 bits a byte."""
+    return baud / (SAMPLE_FRAME_BYTES * 10)
+
+
 def crc16(data: bytes) -> int:
     """CRC-16/CCITT-FALSE of ``data`` (``binascii.crc_hqx`` with init 0xFFFF)."""
     return binascii.crc_hqx(data, 0xFFFF)

@@ -37,9 +37,9 @@ class SerialForcePlate(ForcePlate):
                  command_timeout_s: float = 1.0, **kwargs: Any) -> None:
         if rate not in p.SUPPORTED_RATES_HZ:
             raise ValueError(f"rate {rate} Hz not supported; choose from {p.SUPPORTED_RATES_HZ}")
-        if rate * p.SAMPLE_FRAME_BYTES * 10 > baud:
+        if rate > p.max_sample_rate_hz(baud):
             raise ValueError(
-                f"{rate} Hz needs {rate * p.SAMPLE_FRAME_BYTES * 10} bit/s, more than {baud} baud")
+                f"{rate} Hz needs {rate * p.SAMPLE_FRAME_BYTES * 10} bit/s, more than {baud} baud carries")
         self.port = port
         self.baud = baud
         self.requested_rate_hz = rate

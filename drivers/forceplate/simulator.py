@@ -84,9 +84,6 @@ class ForcePlateSimulator:
         self.close()
 
     # -- device behaviour
-    def _bits_per_second(self, rate_hz: int) -> float:
-        return rate_hz * p.SAMPLE_FRAME_BYTES * 10.0
-
     def _handle(self, kind: p.Kind, payload: bytes) -> bytes:
         if kind != p.Kind.COMMAND or len(payload) != p.COMMAND_PAYLOAD.size:
             return b""
@@ -101,7 +98,7 @@ class ForcePlateSimulator:
             self.streaming = False
             return p.encode_reply(cmd, p.Status.OK)
         if cmd == p.Command.SET_RATE:
-            if arg not in p.SUPPORTED_RATES_HZ or self._bits_per_second(arg) > self.baud:
+            if arg not in p.SUPPORTED_RATES_HZ or arg > p.max_sample_rate_hz(self.baud):
                 return p.encode_reply(cmd, p.Status.BAD_ARGUMENT)
             if self.streaming:
                 return p.encode_reply(cmd, p.Status.BAD_STATE)

@@ -12,6 +12,7 @@ import concurrent.futures
 import logging
 import queue
 import threading
+import time
 from collections.abc import Awaitable, Callable
 from typing import Any, TypeVar
 
@@ -245,16 +246,11 @@ class ModbusTorqueSensor(TorqueSensor):
             raise DeviceTimeoutError(f"{self.name}: tare not answered: {err}") from err
         if rr.isError():
             raise CommandRefusedError(f"{self.name}: tare refused ({rr})")
-        regs = self._run(lambda: self._read_zero())
+        regs = self._read_registers(self.registers.zero_offset, 2)
         if regs is None:
             raise DeviceTimeoutError(f"{self.name}: zero offset not readable after tare")
         self.zero_offset_nm = r.decode_float(regs, self.word_order)
         return self.zero_offset_nm
-
-    async def _read_zero(self) -> list[int] | None:
-        assert self._client is not None
-        rr = await self._client.read_holding_registers(self.registers.zero_offset, count=2, device_id=self.unit)
-        return None if rr.isError() else list(rr.registers)
 
     def identity(self) -> dict[str, Any]:
         d = super().identity()
@@ -265,7 +261,5 @@ class ModbusTorqueSensor(TorqueSensor):
 
 
 def _sleep_until(deadline: float) -> None:
-    import time
-
     while (left := deadline - monotonic_s()) > 0:
         time.sleep(min(left, 0.001))
