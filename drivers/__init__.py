@@ -7,7 +7,7 @@ import, so a missing vendor library breaks only its own back end::
 """
 
 from .base import DeviceStats, StreamingDevice
-from .blocks import DynamometerBlock, ForcePlateBlock, SampleBlock, TorqueBlock
+from .blocks import DynamometerBlock, ForcePlateBlock, MarkerBlock, SampleBlock, TorqueBlock
 from .dynamometer import Dynamometer, DynamometerLimits, open_dynamometer
 from .errors import (
     CommandRefusedError,
@@ -20,12 +20,14 @@ from .errors import (
     LimitViolationError,
 )
 from .forceplate import ForcePlate, open_force_plate
+from .mocap import MarkerStream, open_marker_stream
 from .torque import TorqueSensor, open_torque_sensor
 
 __all__ = [
     "CommandRefusedError", "ConnectionLostError", "DeviceInitializationError", "DeviceNotAvailableError",
     "DeviceOperationError", "DeviceStats", "DeviceTimeoutError", "DriverError", "Dynamometer",
     "DynamometerBlock", "DynamometerLimits", "ForcePlate", "ForcePlateBlock", "LimitViolationError",
+    "MarkerBlock", "MarkerStream", "open_marker_stream",
     "SampleBlock", "StreamingDevice", "TorqueBlock", "TorqueSensor", "open_dynamometer", "open_force_plate",
     "open_torque_sensor",
 ]

@@ -126,6 +126,10 @@ class StreamingDevice(ABC):
         Must not raise. Default: nothing.
         """
 
+    def channel_layout(self) -> dict[str, tuple[tuple[int, ...], str]]:
+        """Per-sample shape and dtype of every channel this device streams (valid once open)."""
+        return dict(self.block_type.LAYOUT)
+
     def identity(self) -> dict[str, Any]:
         """Device identity and settings for the trial record (override to add calibration etc.)."""
         return {"kind": self.kind, "name": self.name, "driver": type(self).__name__}

@@ -8,6 +8,7 @@ host's single monotonic clock (:func:`drivers.clock.monotonic_s`). SI units thro
 from __future__ import annotations
 
 from dataclasses import dataclass, fields
+from typing import ClassVar
 
 import numpy as np
 
@@ -32,6 +33,9 @@ class SampleBlock:
         """Every array of the block by field name (units are in the names)."""
         return {f.name: getattr(self, f.name) for f in fields(self) if f.name != "device"}
 
+    #: per-sample shape and dtype of each channel (recorders create their datasets from this)
+    LAYOUT: ClassVar[dict[str, tuple[tuple[int, ...], str]]] = {"counter": ((), "i8"), "time_s": ((), "f8")}
+
 
 @dataclass(frozen=True)
 class TorqueBlock(SampleBlock):
@@ -43,6 +47,9 @@ class TorqueBlock(SampleBlock):
 
     torque_nm: np.ndarray
     speed_rad_s: np.ndarray
+
+    LAYOUT: ClassVar[dict[str, tuple[tuple[int, ...], str]]] = {
+        **SampleBlock.LAYOUT, "torque_nm": ((), "f8"), "speed_rad_s": ((), "f8")}
 
 
 @dataclass(frozen=True)
@@ -59,6 +66,10 @@ class DynamometerBlock(SampleBlock):
     position_rad: np.ndarray
     velocity_rad_s: np.ndarray
     state: np.ndarray
+
+    LAYOUT: ClassVar[dict[str, tuple[tuple[int, ...], str]]] = {
+        **SampleBlock.LAYOUT, "torque_nm": ((), "f8"), "position_rad": ((), "f8"),
+        "velocity_rad_s": ((), "f8"), "state": ((), "u1")}
 
 
 @dataclass(frozen=True)
@@ -77,3 +88,20 @@ class ForcePlateBlock(SampleBlock):
     cop_m: np.ndarray
     free_moment_nm: np.ndarray
     trigger: np.ndarray
+
+    LAYOUT: ClassVar[dict[str, tuple[tuple[int, ...], str]]] = {
+        **SampleBlock.LAYOUT, "force_n": ((3,), "f8"), "moment_nm": ((3,), "f8"), "cop_m": ((2,), "f8"),
+        "free_moment_nm": ((), "f8"), "trigger": ((), "u1")}
+
+
+@dataclass(frozen=True)
+class MarkerBlock(SampleBlock):
+    """Motion-capture frames: marker positions in the lab frame.
+
+    :ivar position_m: marker positions in m, shape (n, markers, 3); NaN where a marker is occluded.
+    The marker labels are the device's ``labels`` (fixed for a stream), in this order.
+    """
+
+    position_m: np.ndarray
+
+    LAYOUT: ClassVar[dict[str, tuple[tuple[int, ...], str]]] = {**SampleBlock.LAYOUT, "position_m": ((0, 3), "f8")}

@@ -67,6 +67,11 @@ class ForcePlateSimulator:
     def url(self) -> str:
         return self.link.url
 
+    @property
+    def time_origin_s(self) -> float:
+        """``time.monotonic()`` of counter 0: counter ``c`` samples the jig at ``c / rate_hz`` s."""
+        return self._t0
+
     def start(self) -> None:
         self._thread = threading.Thread(target=self._run, name="forceplate-sim", daemon=True)
         self._thread.start()

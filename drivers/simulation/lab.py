@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 
 from ..dynamometer.simulator import DynamometerSimulator
 from ..forceplate.simulator import ForcePlateSimulator
+from ..mocap.simulator import MarkerSimulator
 from ..torque.simulator import TorqueSensorSimulator
 from .aads_jig import AadsJig, AfoProperties
 from .faults import FaultConfig
@@ -27,6 +28,9 @@ class LabConfig:
     replica: ReplicaLeg = field(default_factory=ReplicaLeg)
     plate_rate_hz: int = 1000
     telemetry_rate_hz: int = 100
+    mocap_rate_hz: int = 100
+    marker_noise_m: float = 2e-4
+    occlusion_rate: float = 0.0
     torque_baud: int = 115200
     plate_faults: FaultConfig = field(default_factory=FaultConfig)
     dyno_faults: FaultConfig = field(default_factory=FaultConfig)
@@ -35,7 +39,7 @@ class LabConfig:
 
 
 class SimulatedLab:
-    """Starts the force plate, dynamometer and torque sensor simulators; ``urls`` names their drivers."""
+    """Starts the force plate, motion capture, dynamometer and torque sensor simulators; ``urls`` names their drivers."""
 
     def __init__(self, config: LabConfig | None = None) -> None:
         c = self.config = config or LabConfig()
@@ -44,15 +48,20 @@ class SimulatedLab:
         self.force_plate = ForcePlateSimulator(self.jig, c.plate_rate_hz, faults=c.plate_faults, seed=c.seed)
         self.dynamometer = DynamometerSimulator(c.leg, channel=channel, telemetry_rate_hz=c.telemetry_rate_hz,
                                                 faults=c.dyno_faults, seed=c.seed)
+        self.mocap = MarkerSimulator(self.jig, c.mocap_rate_hz, noise_m=c.marker_noise_m,
+                                     occlusion_rate=c.occlusion_rate, time_origin_s=self.force_plate.time_origin_s,
+                                     seed=c.seed, name=f"markers-{channel}")
         self.torque_sensor = TorqueSensorSimulator(c.replica, baud=c.torque_baud, faults=c.torque_faults, seed=c.seed)
         self.urls = {
             "force_plate": f"{self.force_plate.url}?rate={c.plate_rate_hz}",
             "dynamometer": f"virtual://{channel}?rate={c.telemetry_rate_hz}",
             "torque_sensor": self.torque_sensor.url,
+            "mocap": self.mocap.url,
         }
 
     def close(self) -> None:
         self.force_plate.close()
+        self.mocap.close()
         self.dynamometer.close()
         self.torque_sensor.close()
 

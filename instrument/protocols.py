@@ -1,0 +1,208 @@
+"""Trial protocols of the dissertation as Qt-free procedures (as pymeasure's ``Procedure``).
+
+A protocol knows which devices it needs, how to set them up, and how to drive one trial; the CLI,
+the GUI and the tests run the same objects. Angles are degrees at this edge (as operators set
+them); everything recorded is SI.
+
+* ``aads``: the operator bends the AFO on the force plate while motion capture tracks the jig.
+* ``knee``: knee flexion 0→90° at 5°/s with the hip at 90, 55 or 15°.
+* ``ankle``: dorsiflexion to plantarflexion at 5°/s with the knee at 0, 45 or 90°.
+* ``replica``: the replica leg's knee held every 8° from 0 to 88°, a static torque at each hold.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+import time
+from abc import ABC, abstractmethod
+from dataclasses import asdict, dataclass
+from typing import Any, ClassVar
+
+from drivers import Dynamometer, StreamingDevice
+
+from .errors import ProtocolError
+
+#: the AADS springs of the dissertation (N/m), numbered as in Table 2.1
+AADS_SPRINGS_N_PER_M = {1: 9910.0, 2: 15600.0, 3: 25200.0}
+#: positioning speed between trials (deg/s)
+POSITIONING_SPEED_DEG_S = 30.0
+
+
+class TrialProtocol(ABC):
+    """One kind of trial. ``condition()`` is what the store indexes; ``drive()`` runs the trial."""
+
+    name: ClassVar[str]
+    devices: ClassVar[tuple[str, ...]]
+
+    @abstractmethod
+    def condition(self) -> dict[str, Any]:
+        """The trial's condition (JSON), units in the keys."""
+
+    def prepare(self, devices: dict[str, StreamingDevice]) -> None:
+        """Set the devices up before recording starts (positioning, limits). Default: nothing."""
+
+    @abstractmethod
+    def drive(self, devices: dict[str, StreamingDevice], mark: Any, stop: threading.Event) -> None:
+        """Run the trial while recording; ``mark(kind, **fields)`` writes an event into the trial."""
+
+    def expected_duration_s(self) -> float:
+        return float("nan")
+
+
+def _wait(stop: threading.Event, seconds: float) -> bool:
+    """Sleep ``seconds`` unless stopped; True if stopped."""
+    return stop.wait(seconds)
+
+
+@dataclass
+class AadsProtocol(TrialProtocol):
+    """One AADS trial: spring 1–3 (or a stiffness in N/m), operator 1–4, trial number; ``duration_s`` of bending."""
+
+    name: ClassVar[str] = "aads"
+    devices: ClassVar[tuple[str, ...]] = ("force_plate", "mocap")
+    spring: int = 2
+    operator: int = 1
+    trial: int = 1
+    duration_s: float = 6.0
+
+    def __post_init__(self) -> None:
+        if self.spring not in AADS_SPRINGS_N_PER_M:
+            raise ProtocolError(f"spring must be one of {sorted(AADS_SPRINGS_N_PER_M)}, got {self.spring}")
+        if not 1 <= self.operator <= 4:
+            raise ProtocolError(f"operator must be 1..4, got {self.operator}")
+
+    @property
+    def spring_n_per_m(self) -> float:
+        return AADS_SPRINGS_N_PER_M[self.spring]
+
+    def condition(self) -> dict[str, Any]:
+        return {"spring": self.spring, "spring_n_per_m": self.spring_n_per_m, "operator": self.operator,
+                "trial": self.trial, "fit_window_deg": [6.0, 20.0], "stop_deg": 21.0}
+
+    def drive(self, devices: dict[str, StreamingDevice], mark: Any, stop: threading.Event) -> None:
+        mark("bend_start", operator=self.operator)
+        _wait(stop, self.duration_s)
+        mark("bend_end")
+
+    def expected_duration_s(self) -> float:
+        return self.duration_s
+
+
+@dataclass
+class IsokineticProtocol(TrialProtocol):
+    """A passive isokinetic sweep of the dynamometer from ``start_deg`` to ``end_deg`` at ``speed_deg_s``."""
+
+    devices: ClassVar[tuple[str, ...]] = ("dynamometer",)
+    start_deg: float = 0.0
+    end_deg: float = 90.0
+    speed_deg_s: float = 5.0
+    arm_mass_kg: float = 1.8
+    arm_com_m: float = 0.22
+    settle_s: float = 0.5
+
+    def prepare(self, devices: dict[str, StreamingDevice]) -> None:
+        dyno = devices["dynamometer"]
+        if not isinstance(dyno, Dynamometer):
+            raise ProtocolError(f"{self.name} needs a dynamometer, got {type(dyno).__name__}")
+        lo, hi = sorted((self.start_deg, self.end_deg))
+        dyno.open()
+        dyno.reset()
+        dyno.set_range_of_motion(math.radians(lo - 1.0), math.radians(hi + 1.0))
+        dyno.set_passive_isokinetic(math.radians(POSITIONING_SPEED_DEG_S))
+
+    def drive(self, devices: dict[str, StreamingDevice], mark: Any, stop: threading.Event) -> None:
+        dyno = devices["dynamometer"]
+        assert isinstance(dyno, Dynamometer)
+        travel = abs(self.end_deg - self.start_deg)
+        dyno.move_to(math.radians(self.start_deg))  # positioning (recorded too; the state channel tells)
+        if _wait(stop, travel / POSITIONING_SPEED_DEG_S + 1.5 + self.settle_s):
+            return
+        dyno.set_passive_isokinetic(math.radians(self.speed_deg_s))
+        mark("sweep_start", start_deg=self.start_deg, end_deg=self.end_deg, speed_deg_s=self.speed_deg_s)
+        dyno.move_to(math.radians(self.end_deg))
+        stopped = _wait(stop, travel / self.speed_deg_s + 0.5 + self.settle_s)
+        mark("sweep_end", completed=not stopped)
+
+    def expected_duration_s(self) -> float:
+        travel = abs(self.end_deg - self.start_deg)
+        return travel / POSITIONING_SPEED_DEG_S + travel / self.speed_deg_s + 2.0 + 2 * self.settle_s
+
+
+@dataclass
+class KneeProtocol(IsokineticProtocol):
+    """Knee flexion from full extension to 90° at 5°/s; hip at 90, 55 or 15°."""
+
+    name: ClassVar[str] = "knee"
+    hip_flexion_deg: float = 90.0
+    ankle_dorsiflexion_deg: float = 0.0
+
+    def __post_init__(self) -> None:
+        if self.hip_flexion_deg not in (90.0, 55.0, 15.0):
+            raise ProtocolError(f"hip angle must be 90, 55 or 15°, got {self.hip_flexion_deg}")
+
+    def condition(self) -> dict[str, Any]:
+        return {"joint": "knee", **asdict(self)}
+
+
+@dataclass
+class AnkleProtocol(IsokineticProtocol):
+    """Ankle from full dorsiflexion to plantarflexion at 5°/s; knee at 0, 45 or 90°."""
+
+    name: ClassVar[str] = "ankle"
+    start_deg: float = 15.0
+    end_deg: float = -30.0
+    knee_flexion_deg: float = 0.0
+    hip_flexion_deg: float = 90.0
+
+    def __post_init__(self) -> None:
+        if self.knee_flexion_deg not in (0.0, 45.0, 90.0):
+            raise ProtocolError(f"knee angle must be 0, 45 or 90°, got {self.knee_flexion_deg}")
+
+    def condition(self) -> dict[str, Any]:
+        return {"joint": "ankle", **asdict(self)}
+
+
+@dataclass
+class ReplicaProtocol(TrialProtocol):
+    """Replica leg, hip 90°: the knee locked at each of ``angles_deg`` for ``hold_s``, torque read at each.
+
+    ``schedule`` (start time in host seconds of the first hold, move speed) comes from the rig: in
+    simulation from the replica-leg simulator, on the bench from the operator's confirmations.
+    """
+
+    name: ClassVar[str] = "replica"
+    devices: ClassVar[tuple[str, ...]] = ("torque_sensor",)
+    angles_deg: tuple[float, ...] = tuple(float(a) for a in range(0, 90, 8))
+    hold_s: float = 2.0
+    move_speed_deg_s: float = 16.0
+    first_hold_at_s: float | None = None
+
+    def condition(self) -> dict[str, Any]:
+        return {"joint": "knee", "hip_flexion_deg": 90.0, "angles_deg": list(self.angles_deg), "hold_s": self.hold_s}
+
+    def hold_windows(self) -> list[tuple[float, float, float]]:
+        """(angle deg, start s, end s) of each hold, relative to the first hold."""
+        out, t = [], 0.0
+        for i, a in enumerate(self.angles_deg):
+            if i:
+                t += abs(a - self.angles_deg[i - 1]) / self.move_speed_deg_s
+            out.append((a, t, t + self.hold_s))
+            t += self.hold_s
+        return out
+
+    def drive(self, devices: dict[str, StreamingDevice], mark: Any, stop: threading.Event) -> None:
+        t0 = self.first_hold_at_s if self.first_hold_at_s is not None else time.monotonic()
+        for angle, start, end in self.hold_windows():
+            if _wait(stop, max(0.0, t0 + end - time.monotonic())):
+                return
+            # the reading is the middle 60% of the hold (away from the moves)
+            pad = 0.2 * (end - start)
+            mark("hold", knee_flexion_deg=angle, t_start_s=t0 + start + pad, t_end_s=t0 + end - pad)
+
+    def expected_duration_s(self) -> float:
+        return self.hold_windows()[-1][2]
+
+
+PROTOCOLS: dict[str, type[TrialProtocol]] = {
+    "aads": AadsProtocol, "knee": KneeProtocol, "ankle": AnkleProtocol, "replica": ReplicaProtocol}

@@ -1,0 +1,401 @@
+"""Crash-safe trial files: append-only HDF5 (h5py) in SWMR mode, flushed and fsynced every 0.25 s.
+
+Why HDF5: one self-describing file per trial that MATLAB, Python and R labs already read; chunked,
+resizable datasets append without rewriting; SWMR (single-writer/multiple-reader) orders metadata
+writes so that a file whose writer was killed still opens (read-only, SWMR) with every sample up
+to the last flush. Recovery copies such a file into a clean one and marks it ``interrupted``.
+
+Layout of a trial file (format ``afo-gait-trial`` version 1)::
+
+    /                     attrs: format, format_version, metadata (JSON snapshot), status, summary (JSON)
+    /devices/NAME/        attrs: identity (JSON: device, calibration, zero offsets, settings)
+        counter, time_s, <channels...>   one row per sample, SI units in the names
+        gaps              (k, 2) int64: (last counter before, first counter after) each gap
+    /events               (k,) JSON strings: device errors, protocol marks, operator notes
+"""
+
+from __future__ import annotations
+
+import errno
+import json
+import logging
+import os
+import queue
+import threading
+import time
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import h5py
+import numpy as np
+
+from .errors import CorruptFileError, DiskFullError, RecordingError
+
+log = logging.getLogger(__name__)
+
+FORMAT = "afo-gait-trial"
+FORMAT_VERSION = 1
+EVENT_DTYPE = h5py.string_dtype("utf-8", 1024)
+#: rows per HDF5 chunk: about 4 s of force plate, 40 s of dynamometer
+CHUNK_ROWS = 4096
+
+Layout = dict[str, tuple[tuple[int, ...], str]]
+
+
+@dataclass
+class DeviceSpec:
+    """What a trial file needs to know of a device before the first sample arrives."""
+
+    layout: Layout
+    identity: dict[str, Any] = field(default_factory=dict)
+
+
+@dataclass
+class WriterStats:
+    """Counts of a :class:`TrialWriter` (flush intervals in host seconds)."""
+
+    samples: dict[str, int] = field(default_factory=dict)
+    gaps: dict[str, int] = field(default_factory=dict)
+    flushes: int = 0
+    max_flush_interval_s: float = 0.0
+    write_cpu_s: float = 0.0
+
+
+def _is_disk_full(err: BaseException) -> bool:
+    if isinstance(err, OSError) and err.errno in (errno.ENOSPC, errno.EFBIG, errno.EDQUOT):
+        return True
+    text = str(err).lower()
+    return any(s in text for s in ("no space", "file too large", "disk quota", "errno = 27", "errno = 28"))
+
+
+class TrialWriter:
+    """Appends blocks to one trial file from a writer thread; callers never wait on the disk.
+
+    :param path: the ``.h5`` file to create (must not exist).
+    :param devices: device name → :class:`DeviceSpec`.
+    :param metadata: JSON-serialisable snapshot stored with the data (protocol, condition, operator,
+        software version, settings).
+    :param flush_interval_s: flush + fsync period; at most about twice this much data is at risk.
+    """
+
+    def __init__(self, path: str | Path, devices: dict[str, DeviceSpec], metadata: dict[str, Any],
+                 flush_interval_s: float = 0.25) -> None:
+        self.path = Path(path)
+        self.flush_interval_s = flush_interval_s
+        self.stats = WriterStats(samples={n: 0 for n in devices}, gaps={n: 0 for n in devices})
+        self._queue: queue.SimpleQueue[tuple[str, Any] | None] = queue.SimpleQueue()
+        self._last_counter = {n: -1 for n in devices}
+        self._error: RecordingError | None = None
+        self._closed = False
+        try:
+            self._file = h5py.File(self.path, "w-", libver="latest")
+            f = self._file
+            f.attrs["format"] = FORMAT
+            f.attrs["format_version"] = FORMAT_VERSION
+            f.attrs["metadata"] = json.dumps(metadata, default=_json_default)
+            f.attrs["status"] = "recording"
+            f.attrs["summary"] = "{}"
+            grp = f.create_group("devices")
+            self._datasets: dict[str, dict[str, h5py.Dataset]] = {}
+            for name, spec in devices.items():
+                g = grp.create_group(name)
+                g.attrs["identity"] = json.dumps(spec.identity, default=_json_default)
+                ds = {}
+                for channel, (shape, dtype) in spec.layout.items():
+                    ds[channel] = g.create_dataset(channel, shape=(0, *shape), maxshape=(None, *shape),
+                                                   chunks=(CHUNK_ROWS, *shape) if shape else (CHUNK_ROWS,),
+                                                   dtype=dtype)
+                ds["gaps"] = g.create_dataset("gaps", shape=(0, 2), maxshape=(None, 2), chunks=(256, 2), dtype="i8")
+                self._datasets[name] = ds
+            self._events = f.create_dataset("events", shape=(0,), maxshape=(None,), chunks=(64,), dtype=EVENT_DTYPE)
+            f.swmr_mode = True
+            self._sync()
+        except OSError as err:
+            raise (DiskFullError if _is_disk_full(err) else RecordingError)(
+                f"{self.path}: cannot create trial file: {err}") from err
+        self._last_flush = time.monotonic()
+        self._thread = threading.Thread(target=self._run, name=f"writer-{self.path.stem}", daemon=True)
+        self._thread.start()
+
+    # ------------------------------------------------------------------ producer side
+    @property
+    def error(self) -> RecordingError | None:
+        """The write error that stopped the writer, if any (data up to the last flush is kept)."""
+        return self._error
+
+    def append(self, device: str, channels: dict[str, np.ndarray]) -> None:
+        """Queue one block of ``device`` (channel name → array, as ``SampleBlock.channels()``).
+
+        :raises RecordingError: the writer has stopped on an earlier error.
+        """
+        if self._error is not None:
+            raise self._error
+        if self._closed:
+            raise RecordingError(f"{self.path}: trial already closed")
+        self._queue.put(("block", (device, channels)))
+
+    def log_event(self, kind: str, **fields: Any) -> None:
+        """Queue an event (device error, protocol mark, operator note) with the host time."""
+        if self._error is None and not self._closed:
+            self._queue.put(("event", {"kind": kind, "time_s": time.monotonic(), **fields}))
+
+    def close(self, status: str = "recorded", summary: dict[str, Any] | None = None) -> None:
+        """Write everything queued, then mark the file ``status`` with ``summary``.
+
+        :raises RecordingError: the file could not be completed (the data already flushed stays readable).
+        """
+        if self._closed:
+            return
+        self._closed = True
+        self._queue.put(None)
+        self._thread.join()
+        if self._error is not None:
+            raise self._error
+        try:
+            self._file.close()
+            with h5py.File(self.path, "r+") as f:
+                f.attrs["status"] = status
+                f.attrs["summary"] = json.dumps({**(summary or {}), "writer": _stats_dict(self.stats)},
+                                                default=_json_default)
+                f.flush()
+            _fsync_path(self.path)
+        except OSError as err:
+            raise (DiskFullError if _is_disk_full(err) else RecordingError)(
+                f"{self.path}: cannot complete trial file: {err}") from err
+
+    def abort(self) -> None:
+        """Stop the writer without completing the file (used when the process must exit now)."""
+        if not self._closed:
+            self._closed = True
+            self._queue.put(None)
+            self._thread.join()
+        try:
+            self._file.close()
+        except Exception:  # noqa: BLE001 - the file may be half-written; recovery handles it
+            pass
+
+    # ------------------------------------------------------------------ writer thread
+    def _run(self) -> None:
+        pending: dict[str, list[dict[str, np.ndarray]]] = {}
+        events: list[dict[str, Any]] = []
+        done = False
+        while not done:
+            timeout = max(0.0, self._last_flush + self.flush_interval_s - time.monotonic())
+            try:
+                item = self._queue.get(timeout=timeout)
+                while item is not None:
+                    kind, payload = item
+                    if kind == "block":
+                        pending.setdefault(payload[0], []).append(payload[1])
+                    else:
+                        events.append(payload)
+                    item = self._queue.get_nowait()
+                done = True
+            except queue.Empty:
+                pass
+            if done or time.monotonic() - self._last_flush >= self.flush_interval_s:
+                if self._error is None:
+                    try:
+                        self._write(pending, events)
+                    except Exception as err:  # noqa: BLE001 - becomes the writer's typed error
+                        cls = DiskFullError if _is_disk_full(err) else RecordingError
+                        self._error = cls(f"{self.path}: write failed after {sum(self.stats.samples.values())} "
+                                          f"samples; data up to the last flush is kept: {err}")
+                        log.error("%s", self._error)
+                pending, events = {}, []
+
+    def _write(self, pending: dict[str, list[dict[str, np.ndarray]]], events: list[dict[str, Any]]) -> None:
+        cpu0 = time.thread_time()
+        for name, blocks in pending.items():
+            ds = self._datasets[name]
+            counters = np.concatenate([b["counter"] for b in blocks])
+            n0 = ds["counter"].shape[0]
+            for channel, dset in ds.items():
+                if channel == "gaps":
+                    continue
+                data = np.concatenate([b[channel] for b in blocks])
+                dset.resize(n0 + data.shape[0], axis=0)
+                dset[n0:] = data
+            jumps = np.flatnonzero(np.diff(np.concatenate([[self._last_counter[name]], counters])) > 1)
+            if self._last_counter[name] < 0:
+                jumps = jumps[jumps > 0]
+            if jumps.size:
+                prev = np.concatenate([[self._last_counter[name]], counters])[jumps]
+                gaps = np.column_stack([prev, counters[jumps]])
+                g = ds["gaps"]
+                g.resize(g.shape[0] + len(gaps), axis=0)
+                g[-len(gaps):] = gaps
+                self.stats.gaps[name] += len(gaps)
+            self._last_counter[name] = int(counters[-1])
+            self.stats.samples[name] += int(counters.size)
+        if events:
+            e = self._events
+            e.resize(e.shape[0] + len(events), axis=0)
+            e[-len(events):] = [json.dumps(ev, default=_json_default)[:1000] for ev in events]
+        self._sync()
+        now = time.monotonic()
+        self.stats.max_flush_interval_s = max(self.stats.max_flush_interval_s, now - self._last_flush)
+        self._last_flush = now
+        self.stats.flushes += 1
+        self.stats.write_cpu_s += time.thread_time() - cpu0
+
+    def _sync(self) -> None:
+        self._file.flush()
+        os.fsync(self._file.id.get_vfd_handle())
+
+
+# ---------------------------------------------------------------------- reading
+@dataclass
+class DeviceData:
+    """One device's channels in a trial file (SI units in the channel names)."""
+
+    name: str
+    identity: dict[str, Any]
+    channels: dict[str, np.ndarray]
+    gaps: np.ndarray
+
+    @property
+    def samples(self) -> int:
+        return int(self.channels["counter"].shape[0])
+
+    @property
+    def lost_samples(self) -> int:
+        return int((self.gaps[:, 1] - self.gaps[:, 0] - 1).sum()) if len(self.gaps) else 0
+
+
+@dataclass
+class TrialFile:
+    """Everything in one trial file."""
+
+    path: Path
+    status: str
+    metadata: dict[str, Any]
+    summary: dict[str, Any]
+    devices: dict[str, DeviceData]
+    events: list[dict[str, Any]]
+    warnings: list[str] = field(default_factory=list)
+
+
+def _open_for_read(path: Path) -> tuple[h5py.File, bool]:
+    if not path.exists():
+        raise CorruptFileError(path, "file does not exist")
+    if path.stat().st_size == 0:
+        raise CorruptFileError(path, "file is empty (0 bytes)")
+    try:
+        return h5py.File(path, "r"), False
+    except OSError as err:
+        if "already open for write" in str(err) or "consistency flags" in str(err):
+            try:
+                return h5py.File(path, "r", swmr=True, libver="latest"), True
+            except OSError as err2:
+                raise CorruptFileError(path, f"writer was interrupted and the file cannot be opened: {err2}") from err2
+        raise CorruptFileError(path, f"not a readable HDF5 file (truncated or not a trial?): {err}") from err
+
+
+def read_trial(path: str | Path) -> TrialFile:
+    """Read a trial file, including one whose writer was killed (status then reads ``recording``).
+
+    :raises CorruptFileError: missing, empty, truncated, not HDF5, or not an instrument trial.
+    """
+    path = Path(path)
+    f, interrupted = _open_for_read(path)
+    warnings: list[str] = []
+    try:
+        if f.attrs.get("format") != FORMAT:
+            raise CorruptFileError(path, f"not an instrument trial file (format attribute {f.attrs.get('format')!r})")
+        version = int(f.attrs.get("format_version", 0))
+        if version > FORMAT_VERSION:
+            raise CorruptFileError(path, f"trial format version {version} is newer than this software ({FORMAT_VERSION})")
+        try:
+            metadata = json.loads(f.attrs["metadata"])
+            summary = json.loads(f.attrs.get("summary", "{}"))
+            status = str(f.attrs.get("status", "recording"))
+            devices: dict[str, DeviceData] = {}
+            for name, g in f["devices"].items():
+                channels = {k: v[()] for k, v in g.items() if k != "gaps"}
+                n = min(a.shape[0] for a in channels.values())
+                if any(a.shape[0] != n for a in channels.values()):
+                    warnings.append(f"{name}: channels of unequal length after an interruption; cut to {n} samples")
+                    channels = {k: v[:n] for k, v in channels.items()}
+                devices[name] = DeviceData(name, json.loads(g.attrs["identity"]), channels, g["gaps"][()])
+            events = [json.loads(e) for e in f["events"].asstr()[()]]
+        except (KeyError, ValueError, OSError) as err:
+            raise CorruptFileError(path, f"damaged trial structure: {err}") from err
+    finally:
+        f.close()
+    if interrupted and status == "recording":
+        warnings.append("the writer was interrupted; data up to its last flush")
+    return TrialFile(path, status, metadata, summary, devices, events, warnings)
+
+
+@dataclass
+class RecoveryReport:
+    """What :func:`recover_trial_file` found and did."""
+
+    path: Path
+    samples: dict[str, int]
+    seconds: float
+    readable: bool
+    defect: str = ""
+
+
+def recover_trial_file(path: str | Path) -> RecoveryReport:
+    """Make an interrupted trial file clean: copy what its writer flushed into a new file, status ``interrupted``.
+
+    A file that cannot be read at all is left in place untouched and reported (``readable`` False).
+    """
+    path = Path(path)
+    t0 = time.perf_counter()
+    try:
+        trial = read_trial(path)
+    except CorruptFileError as err:
+        return RecoveryReport(path, {}, time.perf_counter() - t0, False, err.defect)
+    tmp = path.with_suffix(".recovering")
+    with h5py.File(path, "r", swmr=True, libver="latest") as src, h5py.File(tmp, "w", libver="latest") as dst:
+        for key, value in src.attrs.items():
+            dst.attrs[key] = value
+        for key in src:
+            src.copy(src[key], dst, name=key)
+        dst.attrs["status"] = "interrupted"
+        dst.attrs["summary"] = json.dumps({"recovered_at": time.time(),
+                                           "samples": {n: d.samples for n, d in trial.devices.items()}})
+        for name, d in trial.devices.items():  # cut any channel flushed further than its siblings
+            for channel in dst["devices"][name]:
+                if channel != "gaps" and dst["devices"][name][channel].shape[0] != d.samples:
+                    dst["devices"][name][channel].resize(d.samples, axis=0)
+    _fsync_path(tmp)
+    os.replace(tmp, path)
+    return RecoveryReport(path, {n: d.samples for n, d in trial.devices.items()}, time.perf_counter() - t0, True)
+
+
+def _fsync_path(path: Path) -> None:
+    fd = os.open(path, os.O_RDONLY)
+    try:
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+
+
+def _stats_dict(stats: WriterStats) -> dict[str, Any]:
+    return {"samples": stats.samples, "gaps": stats.gaps, "flushes": stats.flushes,
+            "max_flush_interval_s": stats.max_flush_interval_s, "write_cpu_s": stats.write_cpu_s}
+
+
+def _json_default(obj: Any) -> Any:
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    if isinstance(obj, (np.integer, np.floating)):
+        return obj.item()
+    if isinstance(obj, Path):
+        return str(obj)
+    if hasattr(obj, "as_dict"):
+        return obj.as_dict()
+    return repr(obj)
+
+
+def concat_channels(blocks: Iterable[dict[str, np.ndarray]]) -> dict[str, np.ndarray]:
+    """Concatenate channel dicts of consecutive blocks."""
+    blocks = list(blocks)
+    return {k: np.concatenate([b[k] for b in blocks]) for k in blocks[0]} if blocks else {}

@@ -1,0 +1,110 @@
+"""Record one trial: devices → acquisition engine → crash-safe trial file → session store."""
+
+from __future__ import annotations
+
+import logging
+import platform
+import threading
+import time
+from dataclasses import asdict, dataclass, field, is_dataclass
+from pathlib import Path
+from typing import Any
+
+import h5py
+import numpy as np
+
+from drivers import ConnectionLostError, StreamingDevice
+
+from . import __version__
+from .acquisition import AcquisitionEngine, DeviceReport
+from .errors import RecordingError
+from .protocols import TrialProtocol
+from .recording import TrialWriter
+from .store import SessionStore
+
+log = logging.getLogger(__name__)
+
+
+@dataclass
+class TrialOutcome:
+    """What :func:`record_trial` produced."""
+
+    trial_id: int
+    path: Path
+    status: str
+    reason: str | None
+    devices: dict[str, DeviceReport] = field(default_factory=dict)
+    duration_s: float = 0.0
+
+
+def settings_snapshot(protocol: TrialProtocol, extra: dict[str, Any] | None = None) -> dict[str, Any]:
+    """Everything that defines how a trial was taken (as QCoDeS's station snapshot)."""
+    proto = asdict(protocol) if is_dataclass(protocol) else {}
+    return {
+        "software": {"name": "afo-gait-instrument", "version": __version__, "python": platform.python_version(),
+                     "numpy": np.__version__, "h5py": h5py.__version__, "hdf5": h5py.version.hdf5_version},
+        "host": platform.node(),
+        "protocol": {"name": protocol.name, "settings": proto, "condition": protocol.condition()},
+        **(extra or {}),
+    }
+
+
+def record_trial(store: SessionStore, session_id: int, protocol: TrialProtocol,
+                 devices: dict[str, StreamingDevice], *, operator: str | None = None,
+                 trial_number: int | None = None, extra_metadata: dict[str, Any] | None = None,
+                 stop: threading.Event | None = None, engine: AcquisitionEngine | None = None) -> TrialOutcome:
+    """Set up, record and index one trial.
+
+    A device that loses its link mid-trial: the data on both sides of the hole is kept and the trial
+    is marked ``interrupted`` with the device named. A write failure (disk full): the trial is marked
+    ``failed``, the data flushed so far stays readable, and the error is raised.
+
+    :raises RecordingError: the trial file could not be written.
+    :raises StoreError: the store could not be written.
+    """
+    missing = [d for d in protocol.devices if d not in devices]
+    if missing:
+        raise RecordingError(f"protocol {protocol.name!r} needs device(s) {missing}")
+    stop = stop or threading.Event()
+    engine = engine or AcquisitionEngine({n: devices[n] for n in protocol.devices},
+                                         nominal_rates_hz={"force_plate": 1000.0, "torque_sensor": 500.0})
+    engine.open()
+    protocol.prepare(engine.devices)
+    trial_id, path = store.begin_trial(session_id, protocol.name, protocol.condition(),
+                                       operator=operator, trial_number=trial_number)
+    metadata = settings_snapshot(protocol, {"trial_id": trial_id, "operator": operator, "trial_number": trial_number,
+                                            **(extra_metadata or {})})
+    try:
+        writer = TrialWriter(path, engine.specs(), metadata)
+    except RecordingError as err:
+        store.finish_trial(trial_id, "failed", {}, reason=str(err))
+        raise
+    t0 = time.monotonic()
+    engine.start(writer)
+    try:
+        protocol.drive(engine.devices, writer.log_event, stop)
+    finally:
+        reports = engine.stop()
+    counts = {n: r.counts() for n, r in reports.items()}
+    if engine.recording_error is not None or writer.error is not None:
+        err = writer.error or engine.recording_error
+        writer.abort()
+        store.finish_trial(trial_id, "failed", counts, reason=str(err))
+        raise err if isinstance(err, RecordingError) else RecordingError(str(err))
+    lost_links = {n: r for n, r in reports.items() if any(ConnectionLostError.__name__ in e for e in r.errors)}
+    status, reason = "recorded", None
+    if stop.is_set():
+        status, reason = "interrupted", "stopped by the operator before the protocol ended"
+    elif lost_links:
+        status = "interrupted"
+        reason = "; ".join(f"{n}: link lost {sum(ConnectionLostError.__name__ in e for e in r.errors)}× "
+                           f"({r.counts()['lost_samples']} samples missing)" for n, r in lost_links.items())
+    summary = {"devices": {n: {**r.counts(), "errors": r.errors[:20], "rate_hz": r.stats.get("rate_hz")}
+                           for n, r in reports.items()}}
+    try:
+        writer.close(status, summary)
+    except RecordingError as err:
+        store.finish_trial(trial_id, "failed", counts, reason=str(err))
+        raise
+    store.finish_trial(trial_id, status, counts, reason=reason)
+    return TrialOutcome(trial_id, path, status, reason, reports, time.monotonic() - t0)

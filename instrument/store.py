@@ -1,0 +1,378 @@
+"""The session store: SQLite (WAL) indexing subjects, sessions, trials and their files.
+
+A store is a folder: ``store.sqlite`` plus ``trials/SESSION/TRIAL.h5``. Subjects are pseudonymous
+codes (no name or birth date anywhere). The schema is versioned by ``PRAGMA user_version`` and
+migrated forward on open; a store from a newer version is refused with :class:`StoreVersionError`.
+Opening a store also recovers trials whose writer died (status ``recording``, writer gone): the
+flushed data is kept and the trial is marked ``interrupted``.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import socket
+import sqlite3
+import time
+import uuid
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import asdict, dataclass, fields
+from pathlib import Path
+from typing import Any
+
+from . import __version__
+from .errors import NotFoundError, StoreError, StoreReadOnlyError, StoreVersionError
+from .recording import RecoveryReport, recover_trial_file
+
+#: trial states; ``recording`` only while a writer is alive
+TRIAL_STATUSES = ("recording", "recorded", "accepted", "rejected", "interrupted", "failed")
+
+#: migration n brings the schema from version n to n + 1
+MIGRATIONS: list[str] = [
+    # v1: subjects, sessions, trials with one data file each
+    """
+    CREATE TABLE subjects (
+        id INTEGER PRIMARY KEY,
+        code TEXT NOT NULL UNIQUE,
+        sex TEXT CHECK (sex IN ('female', 'male', 'other', 'unknown')),
+        height_m REAL, mass_kg REAL, leg_length_m REAL,
+        thigh_length_m REAL, shank_length_m REAL, hip_width_m REAL, foot_length_m REAL,
+        thigh_circumference_m REAL, shank_circumference_m REAL,
+        created_at REAL NOT NULL
+    );
+    CREATE TABLE sessions (
+        id INTEGER PRIMARY KEY,
+        subject_id INTEGER NOT NULL REFERENCES subjects(id),
+        started_at REAL NOT NULL,
+        operator TEXT, notes TEXT
+    );
+    CREATE TABLE trials (
+        id INTEGER PRIMARY KEY,
+        session_id INTEGER NOT NULL REFERENCES sessions(id),
+        protocol TEXT NOT NULL,
+        condition_json TEXT NOT NULL DEFAULT '{}',
+        operator TEXT,
+        trial_number INTEGER,
+        status TEXT NOT NULL,
+        reason TEXT,
+        repeated_by INTEGER REFERENCES trials(id),
+        file TEXT NOT NULL,
+        started_at REAL NOT NULL, ended_at REAL,
+        software_version TEXT,
+        writer_host TEXT, writer_pid INTEGER
+    );
+    CREATE INDEX trials_session ON trials(session_id);
+    """,
+    # v2: files become their own table (a trial may have several: data, exports, plots) and
+    # per-device sample counts are indexed so listing a store never opens a data file
+    """
+    CREATE TABLE trial_files (
+        trial_id INTEGER NOT NULL REFERENCES trials(id),
+        role TEXT NOT NULL,
+        path TEXT NOT NULL,
+        PRIMARY KEY (trial_id, role)
+    );
+    INSERT INTO trial_files (trial_id, role, path) SELECT id, 'data', file FROM trials;
+    CREATE TABLE trial_devices (
+        trial_id INTEGER NOT NULL REFERENCES trials(id),
+        device TEXT NOT NULL,
+        samples INTEGER NOT NULL DEFAULT 0,
+        lost_samples INTEGER NOT NULL DEFAULT 0,
+        gaps INTEGER NOT NULL DEFAULT 0,
+        PRIMARY KEY (trial_id, device)
+    );
+    ALTER TABLE trials DROP COLUMN file;
+    """,
+]
+SCHEMA_VERSION = len(MIGRATIONS)
+
+
+@dataclass
+class Subject:
+    """A pseudonymous subject with anthropometrics (SI units; lengths as the dissertation measures them).
+
+    :ivar thigh_length_m: greater trochanter to lateral epicondyle.
+    :ivar shank_length_m: fibula head to lateral malleolus.
+    :ivar hip_width_m: ASIS to ASIS.
+    :ivar foot_length_m: calcaneus to 5th metatarsal tuberosity.
+    """
+
+    code: str
+    sex: str = "unknown"
+    height_m: float | None = None
+    mass_kg: float | None = None
+    leg_length_m: float | None = None
+    thigh_length_m: float | None = None
+    shank_length_m: float | None = None
+    hip_width_m: float | None = None
+    foot_length_m: float | None = None
+    thigh_circumference_m: float | None = None
+    shank_circumference_m: float | None = None
+
+    def as_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+
+@dataclass
+class TrialRecord:
+    """One row of the trial index."""
+
+    id: int
+    session_id: int
+    subject_code: str
+    protocol: str
+    condition: dict[str, Any]
+    operator: str | None
+    trial_number: int | None
+    status: str
+    reason: str | None
+    repeated_by: int | None
+    path: Path
+    started_at: float
+    ended_at: float | None
+    software_version: str | None
+    devices: dict[str, dict[str, int]]
+
+    def as_dict(self) -> dict[str, Any]:
+        d = asdict(self)
+        d["path"] = str(self.path)
+        return d
+
+
+def default_store_dir() -> Path:
+    """The per-user store (``$XDG_DATA_HOME/afo-gait-instrument/store``)."""
+    base = os.environ.get("XDG_DATA_HOME") or Path.home() / ".local" / "share"
+    return Path(base) / "afo-gait-instrument" / "store"
+
+
+class SessionStore:
+    """Open (creating if absent) the store in folder ``root``.
+
+    :param read_only: open the database read-only (no recovery, no writes).
+    :param recover: recover interrupted trials on open (default True).
+    :raises StoreVersionError: the store's schema is newer than this software.
+    :raises StoreReadOnlyError: a new store cannot be created, or a write was refused.
+    """
+
+    def __init__(self, root: str | Path, *, read_only: bool = False, recover: bool = True,
+                 migrations: list[str] | None = None) -> None:
+        self.root = Path(root)
+        self.read_only = read_only
+        self._migrations = MIGRATIONS if migrations is None else migrations
+        self.recovered: list[RecoveryReport] = []
+        db = self.root / "store.sqlite"
+        if read_only:
+            if not db.exists():
+                raise StoreError(f"{self.root}: no store here (store.sqlite missing)")
+            self._db = sqlite3.connect(f"file:{db}?mode=ro", uri=True, check_same_thread=False)
+        else:
+            try:
+                (self.root / "trials").mkdir(parents=True, exist_ok=True)
+                self._db = sqlite3.connect(db, check_same_thread=False, timeout=10.0)
+                self._db.execute("PRAGMA journal_mode=WAL")
+            except (OSError, sqlite3.OperationalError) as err:
+                raise StoreReadOnlyError(f"{self.root}: cannot create or write the store: {err}") from err
+        self._db.row_factory = sqlite3.Row
+        self._db.execute("PRAGMA foreign_keys=ON")
+        self._migrate()
+        if recover and not read_only:
+            self.recovered = self.recover_interrupted()
+
+    # ------------------------------------------------------------------ schema
+    @property
+    def schema_version(self) -> int:
+        return int(self._db.execute("PRAGMA user_version").fetchone()[0])
+
+    def _migrate(self) -> None:
+        current = self.schema_version
+        target = len(self._migrations)
+        if current > target:
+            raise StoreVersionError(
+                f"{self.root}: store schema version {current} was written by a newer version of the instrument; "
+                f"this version ({__version__}) understands up to {target}. Upgrade the software to open it.")
+        if current == target:
+            return
+        if self.read_only:
+            raise StoreReadOnlyError(f"{self.root}: store schema {current} needs migrating to {target}, "
+                                     "but it was opened read-only")
+        with self._write() as db:
+            for version in range(current, target):
+                db.executescript(f"BEGIN; {self._migrations[version]}; PRAGMA user_version = {version + 1}; COMMIT;")
+
+    @contextmanager
+    def _write(self) -> Iterator[sqlite3.Connection]:
+        if self.read_only:
+            raise StoreReadOnlyError(f"{self.root}: store opened read-only")
+        try:
+            with self._db:
+                yield self._db
+        except sqlite3.OperationalError as err:
+            if "readonly" in str(err) or "read-only" in str(err):
+                raise StoreReadOnlyError(f"{self.root}: store is read-only: {err}") from err
+            if "disk" in str(err) and "full" in str(err):
+                raise StoreError(f"{self.root}: disk full while writing the store index: {err}") from err
+            raise StoreError(f"{self.root}: {err}") from err
+
+    def close(self) -> None:
+        self._db.close()
+
+    def __enter__(self) -> "SessionStore":
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    # ------------------------------------------------------------------ subjects and sessions
+    def add_subject(self, subject: Subject) -> int:
+        """Insert or update a subject by code; returns its id."""
+        d = subject.as_dict()
+        cols = [f.name for f in fields(Subject)]
+        with self._write() as db:
+            db.execute(
+                f"INSERT INTO subjects ({', '.join(cols)}, created_at) VALUES ({', '.join('?' * len(cols))}, ?) "
+                f"ON CONFLICT(code) DO UPDATE SET {', '.join(f'{c}=excluded.{c}' for c in cols[1:])}",
+                [d[c] for c in cols] + [time.time()])
+        return int(self._db.execute("SELECT id FROM subjects WHERE code=?", (subject.code,)).fetchone()[0])
+
+    def subject(self, code: str) -> Subject:
+        row = self._db.execute("SELECT * FROM subjects WHERE code=?", (code,)).fetchone()
+        if row is None:
+            raise NotFoundError(f"no subject {code!r} in {self.root}")
+        return Subject(**{f.name: row[f.name] for f in fields(Subject)})
+
+    def subjects(self) -> list[Subject]:
+        rows = self._db.execute("SELECT * FROM subjects ORDER BY code").fetchall()
+        return [Subject(**{f.name: r[f.name] for f in fields(Subject)}) for r in rows]
+
+    def new_session(self, subject_code: str, operator: str | None = None, notes: str | None = None) -> int:
+        """Start a session for an existing subject; returns the session id."""
+        row = self._db.execute("SELECT id FROM subjects WHERE code=?", (subject_code,)).fetchone()
+        if row is None:
+            raise NotFoundError(f"no subject {subject_code!r} in {self.root}; add it first")
+        with self._write() as db:
+            cur = db.execute("INSERT INTO sessions (subject_id, started_at, operator, notes) VALUES (?, ?, ?, ?)",
+                             (row[0], time.time(), operator, notes))
+        return int(cur.lastrowid)  # type: ignore[arg-type]
+
+    def sessions(self) -> list[dict[str, Any]]:
+        rows = self._db.execute(
+            "SELECT s.id, s.started_at, s.operator, s.notes, sub.code AS subject FROM sessions s "
+            "JOIN subjects sub ON sub.id = s.subject_id ORDER BY s.id").fetchall()
+        return [dict(r) for r in rows]
+
+    # ------------------------------------------------------------------ trials
+    def begin_trial(self, session_id: int, protocol: str, condition: dict[str, Any], *,
+                    operator: str | None = None, trial_number: int | None = None) -> tuple[int, Path]:
+        """Register a trial being recorded; returns (trial id, path of its data file to create)."""
+        rel = Path("trials") / f"session-{session_id:04d}" / f"{protocol}-{uuid.uuid4().hex[:12]}.h5"
+        path = self.root / rel
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+        except OSError as err:
+            raise StoreReadOnlyError(f"{self.root}: cannot create {path.parent}: {err}") from err
+        with self._write() as db:
+            cur = db.execute(
+                "INSERT INTO trials (session_id, protocol, condition_json, operator, trial_number, status, "
+                "started_at, software_version, writer_host, writer_pid) VALUES (?, ?, ?, ?, ?, 'recording', ?, ?, ?, ?)",
+                (session_id, protocol, json.dumps(condition), operator, trial_number, time.time(), __version__,
+                 socket.gethostname(), os.getpid()))
+            trial_id = int(cur.lastrowid)  # type: ignore[arg-type]
+            db.execute("INSERT INTO trial_files (trial_id, role, path) VALUES (?, 'data', ?)", (trial_id, str(rel)))
+        return trial_id, path
+
+    def finish_trial(self, trial_id: int, status: str, devices: dict[str, dict[str, int]],
+                     reason: str | None = None) -> None:
+        """Close a trial: final status, end time and per-device counts (samples, lost_samples, gaps)."""
+        if status not in TRIAL_STATUSES:
+            raise ValueError(f"unknown trial status {status!r}; one of {TRIAL_STATUSES}")
+        with self._write() as db:
+            db.execute("UPDATE trials SET status=?, reason=?, ended_at=? WHERE id=?",
+                       (status, reason, time.time(), trial_id))
+            for name, counts in devices.items():
+                db.execute("INSERT OR REPLACE INTO trial_devices (trial_id, device, samples, lost_samples, gaps) "
+                           "VALUES (?, ?, ?, ?, ?)", (trial_id, name, int(counts.get("samples", 0)),
+                                                      int(counts.get("lost_samples", 0)), int(counts.get("gaps", 0))))
+
+    def set_status(self, trial_id: int, status: str, reason: str | None = None,
+                   repeated_by: int | None = None) -> None:
+        """Accept or reject a trial (a rejection keeps the data and needs a reason), or link its repeat."""
+        if status not in TRIAL_STATUSES or status == "recording":
+            raise ValueError(f"cannot set status {status!r}")
+        if status == "rejected" and not reason:
+            raise ValueError("a rejected trial needs a reason (e.g. 'muscle activation detected')")
+        self.trial(trial_id)
+        with self._write() as db:
+            db.execute("UPDATE trials SET status=?, reason=COALESCE(?, reason), "
+                       "repeated_by=COALESCE(?, repeated_by) WHERE id=?", (status, reason, repeated_by, trial_id))
+
+    def add_file(self, trial_id: int, role: str, path: Path) -> None:
+        """Index an extra file of a trial (export, plot) by role."""
+        rel = os.path.relpath(path, self.root)
+        with self._write() as db:
+            db.execute("INSERT OR REPLACE INTO trial_files (trial_id, role, path) VALUES (?, ?, ?)", (trial_id, role, rel))
+
+    def trials(self, session_id: int | None = None, protocol: str | None = None) -> list[TrialRecord]:
+        sql = ("SELECT t.*, sub.code AS subject_code, f.path AS data_path FROM trials t "
+               "JOIN sessions s ON s.id = t.session_id JOIN subjects sub ON sub.id = s.subject_id "
+               "LEFT JOIN trial_files f ON f.trial_id = t.id AND f.role = 'data' WHERE 1=1")
+        args: list[Any] = []
+        if session_id is not None:
+            sql += " AND t.session_id=?"
+            args.append(session_id)
+        if protocol is not None:
+            sql += " AND t.protocol=?"
+            args.append(protocol)
+        rows = self._db.execute(sql + " ORDER BY t.id", args).fetchall()
+        counts: dict[int, dict[str, dict[str, int]]] = {}
+        for r in self._db.execute("SELECT * FROM trial_devices").fetchall():
+            counts.setdefault(r["trial_id"], {})[r["device"]] = {
+                "samples": r["samples"], "lost_samples": r["lost_samples"], "gaps": r["gaps"]}
+        return [TrialRecord(r["id"], r["session_id"], r["subject_code"], r["protocol"], json.loads(r["condition_json"]),
+                            r["operator"], r["trial_number"], r["status"], r["reason"], r["repeated_by"],
+                            self.root / r["data_path"], r["started_at"], r["ended_at"], r["software_version"],
+                            counts.get(r["id"], {})) for r in rows]
+
+    def trial(self, trial_id: int) -> TrialRecord:
+        for t in self.trials():
+            if t.id == trial_id:
+                return t
+        raise NotFoundError(f"no trial {trial_id} in {self.root}")
+
+    # ------------------------------------------------------------------ recovery
+    def recover_interrupted(self) -> list[RecoveryReport]:
+        """Recover trials left ``recording`` by a writer that no longer runs; mark them ``interrupted``."""
+        reports = []
+        host = socket.gethostname()
+        for t in self.trials():
+            if t.status != "recording":
+                continue
+            row = self._db.execute("SELECT writer_host, writer_pid FROM trials WHERE id=?", (t.id,)).fetchone()
+            if row["writer_host"] == host and _pid_alive(row["writer_pid"]):
+                continue  # still being written by a live process
+            report = recover_trial_file(t.path)
+            reports.append(report)
+            counts = {n: {"samples": s} for n, s in report.samples.items()}
+            reason = ("writer stopped before completing the file; data recovered up to its last flush"
+                      if report.readable else f"writer stopped; data file unreadable: {report.defect}")
+            self.finish_trial(t.id, "interrupted", counts, reason=reason)
+        return reports
+
+
+def _pid_alive(pid: int | None) -> bool:
+    if not pid:
+        return False
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    # a zombie (killed child not yet reaped) is not a writer
+    try:
+        with open(f"/proc/{pid}/stat") as fh:
+            return fh.read().split(")")[-1].split()[0] != "Z"
+    except OSError:
+        return True
