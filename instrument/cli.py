@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 import argparse
+import json
 import logging
 import sys
 from pathlib import Path
+
+from .errors import InstrumentError
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -16,17 +19,131 @@ def build_parser() -> argparse.ArgumentParser:
     demo.add_argument("--seconds", type=float, default=4.0, help="streaming time per run (s)")
     demo.add_argument("--out", type=Path, default=Path("out"), help="output folder")
     demo.add_argument("--no-faults", action="store_true", help="skip the fault drill")
+
+    rec = sub.add_parser("record", help="record one trial into a session store")
+    rec.add_argument("--simulate", action="store_true", help="use the simulated lab (required without hardware config)")
+    rec.add_argument("--protocol", choices=("aads", "knee", "ankle", "replica"), required=True)
+    rec.add_argument("--store", type=Path, default=None, help="store folder (default: the user's data folder)")
+    rec.add_argument("--subject", default="SIM01", help="pseudonymous subject code")
+    rec.add_argument("--operator", default="operator-1")
+    rec.add_argument("--trial", type=int, default=1, help="trial number")
+    rec.add_argument("--spring", type=int, default=2, choices=(1, 2, 3), help="AADS spring (9910, 15600, 25200 N/m)")
+    rec.add_argument("--aads-operator", type=int, default=1, choices=(1, 2, 3, 4), help="AADS operator style")
+    rec.add_argument("--seconds", type=float, default=6.0, help="AADS bending time (s)")
+    rec.add_argument("--hip", type=float, default=90.0, choices=(90.0, 55.0, 15.0), help="knee trials: hip flexion (deg)")
+    rec.add_argument("--knee", type=float, default=0.0, choices=(0.0, 45.0, 90.0), help="ankle trials: knee flexion (deg)")
+    rec.add_argument("--speed", type=float, default=5.0, help="isokinetic speed (deg/s)")
+    rec.add_argument("--hold", type=float, default=2.0, help="replica leg: hold time per angle (s)")
+    rec.add_argument("--seed", type=int, default=0)
+
+    ses = sub.add_parser("sessions", help="list subjects, sessions and trials of a store")
+    ses.add_argument("--store", type=Path, default=None)
+    ses.add_argument("--json", action="store_true")
+
+    exp = sub.add_parser("export", help="export one trial (sto, csv with JSON sidecar, c3d)")
+    exp.add_argument("trial_id", type=int)
+    exp.add_argument("--store", type=Path, default=None)
+    exp.add_argument("--format", choices=("sto", "csv", "c3d"), required=True)
+    exp.add_argument("-o", "--output", type=Path, required=True)
     return parser
+
+
+def _store(path: Path | None, read_only: bool = False):  # noqa: ANN202
+    from .store import SessionStore, default_store_dir
+
+    store = SessionStore(path or default_store_dir(), read_only=read_only)
+    for r in store.recovered:
+        print(f"recovered interrupted trial file {r.path} ({r.samples} samples, {r.seconds * 1e3:.0f} ms)",
+              file=sys.stderr)
+    return store
+
+
+def cmd_record(args: argparse.Namespace) -> int:
+    from .protocols import AadsProtocol, AnkleProtocol, KneeProtocol, ReplicaProtocol
+    from .session import record_trial
+    from .simulate import lab_config_for, simulated_devices, simulation_metadata
+    from .store import Subject
+
+    if not args.simulate:
+        print("only --simulate is available from the command line; the GUI drives real devices", file=sys.stderr)
+        return 2
+    proto = {"aads": lambda: AadsProtocol(spring=args.spring, operator=args.aads_operator, trial=args.trial,
+                                          duration_s=args.seconds),
+             "knee": lambda: KneeProtocol(hip_flexion_deg=args.hip, speed_deg_s=args.speed),
+             "ankle": lambda: AnkleProtocol(knee_flexion_deg=args.knee, speed_deg_s=args.speed),
+             "replica": lambda: ReplicaProtocol(hold_s=args.hold)}[args.protocol]()
+    store = _store(args.store)
+    try:
+        store.subject(args.subject)
+    except KeyError:
+        store.add_subject(Subject(args.subject, "unknown", 1.78, 75.0, shank_length_m=0.42, foot_length_m=0.26))
+    session = store.new_session(args.subject, args.operator, notes="simulated")
+    print(f"recording {proto.name} {proto.condition()} (about {proto.expected_duration_s():.0f} s) ...")
+    with simulated_devices(proto, lab_config_for(proto, seed=args.seed)) as (lab, devices):
+        out = record_trial(store, session, proto, devices, operator=args.operator, trial_number=args.trial,
+                           extra_metadata=simulation_metadata(lab))
+    counts = ", ".join(f"{n}: {r.samples} samples, {r.counts()['lost_samples']} lost" for n, r in out.devices.items())
+    print(f"trial {out.trial_id} {out.status}{' (' + out.reason + ')' if out.reason else ''}: {counts}\n  {out.path}")
+    return 0 if out.status == "recorded" else 1
+
+
+def cmd_sessions(args: argparse.Namespace) -> int:
+    store = _store(args.store)
+    trials = store.trials()
+    if args.json:
+        print(json.dumps({"subjects": [s.as_dict() for s in store.subjects()], "sessions": store.sessions(),
+                          "trials": [t.as_dict() for t in trials]}, indent=2))
+        return 0
+    for s in store.subjects():
+        print(f"subject {s.code}  sex {s.sex}  height {s.height_m} m  mass {s.mass_kg} kg")
+    print(f"{'trial':>5} {'session':>7} {'subject':<8} {'protocol':<8} {'status':<12} {'samples':<40} condition")
+    for t in trials:
+        samples = " ".join(f"{n}={c['samples']}" + (f"(-{c['lost_samples']})" if c["lost_samples"] else "")
+                           for n, c in t.devices.items())
+        cond = {k: v for k, v in t.condition.items() if k in ("spring", "operator", "trial", "hip_flexion_deg",
+                                                               "knee_flexion_deg", "speed_deg_s")}
+        print(f"{t.id:>5} {t.session_id:>7} {t.subject_code:<8} {t.protocol:<8} {t.status:<12} {samples:<40} {cond}"
+              + (f"  [{t.reason}]" if t.reason else ""))
+    return 0
+
+
+def cmd_export(args: argparse.Namespace) -> int:
+    from .export import export_trial
+    from .recording import read_trial
+
+    store = _store(args.store)
+    rec = store.trial(args.trial_id)
+    trial = read_trial(rec.path)
+    try:
+        subject = store.subject(rec.subject_code).as_dict()
+    except KeyError:
+        subject = None
+    files = export_trial(trial, args.format, args.output, subject)
+    for f in files:
+        store.add_file(rec.id, f"export-{f.suffix.lstrip('.')}", f.resolve())
+        print(f"wrote {f}")
+    return 0
 
 
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING)
-    if args.command == "demo":
-        from .demo import main as demo_main
+    try:
+        if args.command == "demo":
+            from .demo import main as demo_main
 
-        return demo_main(args.seconds, args.out, faults=not args.no_faults)
-    return 2
+            return demo_main(args.seconds, args.out, faults=not args.no_faults)
+        return {"record": cmd_record, "sessions": cmd_sessions, "export": cmd_export}[args.command](args)
+    except (InstrumentError, OSError) as err:
+        print(f"error: {err}", file=sys.stderr)
+        return 1
+    except Exception as err:  # analysis errors carry their own message
+        from analysis.errors import AnalysisError
+
+        if isinstance(err, AnalysisError):
+            print(f"error: {err}", file=sys.stderr)
+            return 1
+        raise
 
 
 if __name__ == "__main__":

@@ -1,0 +1,144 @@
+"""C3D in and out with ezc3d: markers and one force platform, as Vicon and other labs exchange them.
+
+Reading uses ezc3d's own force-platform extraction (types 1–4: channels, scales, offsets,
+calibration matrix, corners and origin from the ``FORCE_PLATFORM`` group), which gives the load
+*on the plate* in the lab frame; the analysis wants the reaction on the specimen, so the force
+and free moment are negated. Writing produces a type-2 platform (Fx Fy Fz Mx My Mz channels,
+N and N·mm) in the plate's own frame as the corners define it (x = c1→c0, y = c4→c1; with the
+default corners z points down, as AMTI plates do), and ``ORIGIN`` the plate centre relative to the
+transducer origin in that frame, z ≤ 0 (the C3D type-2 convention, which ezc3d enforces).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .errors import DataFileError, InputError
+from .motion import MotionTrial, cop_from_moment
+
+_UNIT_TO_M = {"mm": 1e-3, "m": 1.0, "cm": 1e-2}
+
+
+def _scale(unit: str, what: str, path: Path) -> float:
+    u = unit.strip().lower()
+    if u in _UNIT_TO_M:
+        return _UNIT_TO_M[u]
+    raise DataFileError(path, f"unknown {what} unit {unit!r}")
+
+
+def read_c3d(path: str | Path, *, plate: int = 0, require_plate: bool = True) -> MotionTrial:
+    """Read markers and force platform ``plate`` of a C3D file.
+
+    :raises DataFileError: the file cannot be read, or it has no force platform (when required).
+    """
+    import ezc3d
+
+    path = Path(path)
+    if not path.exists():
+        raise DataFileError(path, "file does not exist")
+    try:
+        c = ezc3d.c3d(str(path), extract_forceplat_data=True)
+    except Exception as err:  # noqa: BLE001 - ezc3d raises bare RuntimeError/ValueError/IOError
+        raise DataFileError(path, f"not a readable C3D file: {err}") from err
+    params = c["parameters"]
+    rate = float(params["POINT"]["RATE"]["value"][0])
+    labels = [str(s).strip() for s in params["POINT"]["LABELS"]["value"]]
+    unit = str(params["POINT"]["UNITS"]["value"][0]) if "UNITS" in params["POINT"] else "mm"
+    pts = np.asarray(c["data"]["points"], dtype=float)  # (4, markers, frames)
+    markers = np.transpose(pts[:3], (2, 1, 0)) * _scale(unit, "point", path)
+    if "meta_points" in c["data"] and c["data"]["meta_points"]["residuals"].size:
+        res = c["data"]["meta_points"]["residuals"][0].T  # (frames, markers); < 0 marks an invalid point
+        markers[res < 0] = np.nan
+    first = int(c["header"]["points"]["first_frame"])
+    marker_t = (first + np.arange(markers.shape[0])) / rate
+    platforms = c["data"].get("platform", [])
+    if len(platforms) <= plate:
+        if require_plate:
+            raise DataFileError(path, f"no force platform {plate + 1} (FORCE_PLATFORM group has {len(platforms)})")
+        empty = np.zeros((0, 3))
+        return MotionTrial(marker_t, markers, labels, np.zeros(0), empty, empty, np.zeros(0), str(path))
+    pf = platforms[plate]
+    f_scale = 1.0 if pf["unit_force"].strip() in ("N", "") else float("nan")
+    m_unit = pf["unit_moment"].strip().lower().replace("·", "")
+    m_scale = {"nmm": 1e-3, "nm": 1.0}.get(m_unit, float("nan"))
+    p_scale = _scale(pf["unit_position"] or "mm", "force-platform position", path)
+    if not np.isfinite(f_scale * m_scale):
+        raise DataFileError(path, f"unknown force-platform units {pf['unit_force']!r}, {pf['unit_moment']!r}")
+    force_on_plate = pf["force"].T * f_scale
+    analog_rate = float(c["header"]["analogs"]["frame_rate"]) or rate
+    plate_t = first / rate + np.arange(force_on_plate.shape[0]) / analog_rate
+    cop = pf["center_of_pressure"].T * p_scale
+    tz = pf["Tz"].T[:, 2] * m_scale
+    low = np.abs(force_on_plate[:, 2]) < 5.0
+    cop[low] = np.nan
+    corners = pf["corners"].T * p_scale
+    meta = {"plate_corners_m": corners.tolist(), "plate_origin_m": (pf["origin"] * p_scale).tolist(),
+            "marker_rate_hz": rate, "analog_rate_hz": analog_rate}
+    return MotionTrial(marker_t, markers, labels, plate_t, -force_on_plate, cop, -np.where(low, 0.0, tz),
+                       str(path), meta)
+
+
+def write_c3d(path: str | Path, trial: MotionTrial, *, corners_m: np.ndarray | None = None,
+              transducer_origin_m: np.ndarray | None = None) -> None:
+    """Write markers (mm) and the force plate as a type-2 platform (N, N·mm).
+
+    The plate rate must be an integer multiple of the marker rate, and both streams must cover
+    the same frames (cut to the shorter). ``corners_m`` (4, 3): plate corners in the lab frame
+    (default: a 600 × 400 mm plate centred at the origin); ``transducer_origin_m`` (3,): the
+    point the moment channels refer to, in the lab frame (default 40 mm below the surface).
+
+    :raises InputError: rates not commensurate, or no samples.
+    """
+    import ezc3d
+    from ezc3d import ezc3d as core
+
+    path = Path(path)
+    n_m = trial.markers_m.shape[0]
+    marker_rate = 1.0 / float(np.median(np.diff(trial.marker_time_s))) if n_m > 1 else 100.0
+    plate_rate = 1.0 / float(np.median(np.diff(trial.plate_time_s))) if trial.plate_time_s.size > 1 else marker_rate
+    marker_rate, plate_rate = round(marker_rate), round(plate_rate)
+    if plate_rate % marker_rate:
+        raise InputError(f"plate rate {plate_rate} Hz is not a multiple of the marker rate {marker_rate} Hz")
+    ratio = plate_rate // marker_rate
+    n = min(n_m, trial.plate_time_s.size // ratio)
+    if n == 0:
+        raise InputError("nothing to write: no frame has both markers and force-plate samples")
+    corners = np.array([[0.3, -0.2, 0.0], [-0.3, -0.2, 0.0], [-0.3, 0.2, 0.0], [0.3, 0.2, 0.0]]) \
+        if corners_m is None else np.asarray(corners_m, dtype=float)
+    origin = np.array([0.0, 0.0, -0.040]) if transducer_origin_m is None else np.asarray(transducer_origin_m)
+    centre = corners.mean(axis=0)
+    ex, ey = corners[0] - corners[1], corners[0] - corners[3]
+    ez = np.cross(ex, ey)
+    ey = np.cross(ez, ex)
+    rot = np.column_stack([ex / np.linalg.norm(ex), ey / np.linalg.norm(ey), ez / np.linalg.norm(ez)])  # plate→lab
+    c = ezc3d.c3d()
+    p = c["parameters"]
+    p["POINT"]["RATE"]["value"] = [float(marker_rate)]
+    p["POINT"]["LABELS"]["value"] = list(trial.marker_labels)
+    p["POINT"]["UNITS"]["value"] = ["mm"]
+    p["ANALOG"]["RATE"]["value"] = [float(plate_rate)]
+    p["ANALOG"]["LABELS"]["value"] = ["Fx1", "Fy1", "Fz1", "Mx1", "My1", "Mz1"]
+    p["ANALOG"]["UNITS"]["value"] = ["N", "N", "N", "Nmm", "Nmm", "Nmm"]
+    pts = np.ones((4, len(trial.marker_labels), n))
+    pts[:3] = np.transpose(trial.markers_m[:n] * 1e3, (2, 1, 0))
+    c["data"]["points"] = pts
+    k = n * ratio
+    f_plate = -trial.force_n[:k] @ rot  # load on the plate, in the plate frame
+    m_plate = -trial.moment_about_nm(origin)[:k] @ rot
+    an = np.vstack([f_plate.T, m_plate.T * 1e3])[None]
+    c["data"]["analogs"] = np.nan_to_num(an)
+    for name, value in (("USED", [1]), ("TYPE", [2]), ("CHANNEL", np.arange(1, 7).reshape(6, 1))):
+        c.add_parameter("FORCE_PLATFORM", name, np.asarray(value, dtype=float))
+        p["FORCE_PLATFORM"][name]["type"] = core.INT
+    c.add_parameter("FORCE_PLATFORM", "CORNERS", (corners.T * 1e3).reshape(3, 4, 1))
+    c.add_parameter("FORCE_PLATFORM", "ORIGIN", (rot.T @ (centre - origin) * 1e3).reshape(3, 1))
+    c["header"]["points"]["first_frame"] = int(round(trial.marker_time_s[0] * marker_rate)) if n_m else 0
+    try:
+        c.write(str(path))
+    except Exception as err:  # noqa: BLE001
+        raise DataFileError(path, f"cannot write C3D: {err}") from err
+
+
+__all__ = ["read_c3d", "write_c3d", "cop_from_moment"]

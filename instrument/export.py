@@ -1,0 +1,153 @@
+"""Export a recorded trial: OpenSim ``.sto``/``.mot``, the trial CSV with its JSON sidecar, and C3D.
+
+Sign conventions are the trial CSV's (:mod:`analysis.trial_csv`). For dynamometer trials the
+export is the isokinetic sweep (between the protocol's ``sweep_start`` and ``sweep_end`` marks),
+with the dynamometer arm's weight removed from the torque using the arm mass and centre of mass
+entered at set-up; for replica-leg trials it is the samples inside each hold, with the hold angle.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from analysis.c3d import write_c3d
+from analysis.motion import MotionTrial
+from analysis.sto import write_sto
+from analysis.timebase import resample, uniform_grid
+from analysis.trial_csv import TrialTable, write_trial_csv
+
+from .errors import RecordingError
+from .recording import TrialFile
+
+G = 9.81
+FORMATS = ("sto", "csv", "c3d")
+
+
+class ExportError(RecordingError):
+    """The trial cannot be exported in the format asked for."""
+
+
+def arm_gravity_moment_nm(joint: str, angle_deg: np.ndarray, arm_mass_kg: float, arm_com_m: float,
+                          knee_flexion_deg: float = 0.0) -> np.ndarray:
+    """Gravity moment of the dynamometer arm toward positive angles (N·m).
+
+    Knee: the arm is horizontal at 0° flexion and hangs at 90°. Ankle: the footplate's elevation
+    above horizontal is dorsiflexion + 90° − knee flexion; gravity plantarflexes.
+    """
+    th = np.deg2rad(np.asarray(angle_deg, dtype=float))
+    if joint == "knee":
+        return arm_mass_kg * G * arm_com_m * np.cos(th)
+    return -arm_mass_kg * G * arm_com_m * np.cos(th + np.deg2rad(90.0 - knee_flexion_deg))
+
+
+def _event_time(trial: TrialFile, kind: str) -> float | None:
+    for e in trial.events:
+        if e.get("kind") == kind:
+            return float(e["time_s"])
+    return None
+
+
+def _subject_block(subject: dict[str, Any] | None) -> dict[str, Any]:
+    return {k: v for k, v in (subject or {}).items() if v is not None}
+
+
+def trial_table(trial: TrialFile, subject: dict[str, Any] | None = None) -> TrialTable:
+    """The trial as ``time_s, angle_deg, torque_Nm`` columns with its sidecar.
+
+    :raises ExportError: the protocol has no such table (AADS needs the analysis) or no data.
+    """
+    proto = trial.metadata["protocol"]
+    name, cond = proto["name"], proto["condition"]
+    if name in ("knee", "ankle"):
+        d = trial.devices["dynamometer"].channels
+        t = d["time_s"]
+        t0 = _event_time(trial, "sweep_start")
+        t1 = _event_time(trial, "sweep_end")
+        keep = (t >= (t0 if t0 is not None else -np.inf)) & (t <= (t1 if t1 is not None else np.inf))
+        if not keep.any():
+            raise ExportError(f"{trial.path}: no dynamometer samples inside the sweep")
+        angle = np.rad2deg(d["position_rad"][keep])
+        torque = d["torque_nm"][keep] + arm_gravity_moment_nm(
+            name, angle, cond["arm_mass_kg"], cond["arm_com_m"], cond.get("knee_flexion_deg", 0.0))
+        cols = {"time_s": t[keep] - t[keep][0], "angle_deg": angle, "torque_Nm": torque,
+                "velocity_deg_s": np.rad2deg(d["velocity_rad_s"][keep])}
+        fixed = {"hip_flexion_deg": cond["hip_flexion_deg"],
+                 "knee_flexion_deg": cond.get("knee_flexion_deg"),
+                 "ankle_dorsiflexion_deg": cond.get("ankle_dorsiflexion_deg")}
+        return TrialTable(cols, {"kind": name, **{k: v for k, v in fixed.items() if v is not None},
+                                 "subject": _subject_block(subject), "source": str(trial.path),
+                                 "trial_status": trial.status})
+    if name == "replica":
+        d = trial.devices["torque_sensor"].channels
+        t = d["time_s"]
+        parts = []
+        for e in trial.events:
+            if e.get("kind") == "hold":
+                m = (t >= e["t_start_s"]) & (t <= e["t_end_s"])
+                parts.append((t[m], np.full(m.sum(), float(e["knee_flexion_deg"])), d["torque_nm"][m]))
+        if not parts or sum(len(p[0]) for p in parts) == 0:
+            raise ExportError(f"{trial.path}: no torque samples inside any hold")
+        tt, aa, qq = (np.concatenate(x) for x in zip(*parts))
+        return TrialTable({"time_s": tt - tt[0], "angle_deg": aa, "torque_Nm": qq},
+                          {"kind": "replica", "hip_flexion_deg": 90.0, "ankle_dorsiflexion_deg": 0.0,
+                           "subject": _subject_block(subject), "source": str(trial.path),
+                           "trial_status": trial.status})
+    raise ExportError(f"{trial.path}: a {name} trial's angle and torque come from the AADS analysis; "
+                      "run `instrument analyze afo` (or export c3d/sto of the raw markers and plate)")
+
+
+def motion_trial(trial: TrialFile) -> MotionTrial:
+    """Markers and force plate of an AADS trial, times relative to the first marker frame."""
+    if "mocap" not in trial.devices or "force_plate" not in trial.devices:
+        raise ExportError(f"{trial.path}: needs motion capture and force plate data (has {sorted(trial.devices)})")
+    mk, fp = trial.devices["mocap"], trial.devices["force_plate"]
+    if mk.samples == 0 or fp.samples == 0:
+        raise ExportError(f"{trial.path}: no samples (markers {mk.samples}, plate {fp.samples})")
+    labels = mk.identity.get("labels") or [f"M{i}" for i in range(mk.channels["position_m"].shape[1])]
+    t0 = float(mk.channels["time_s"][0])
+    plate_rate = float(fp.identity.get("rate_hz") or 1000.0)
+    t_fp = fp.channels["time_s"]
+    grid = uniform_grid(t0, min(float(t_fp[-1]), float(mk.channels["time_s"][-1])), plate_rate)
+    stacked = np.hstack([fp.channels["force_n"], fp.channels["cop_m"], fp.channels["free_moment_nm"][:, None]])
+    on_grid = resample(t_fp, stacked, grid, max_gap_s=2.5 / plate_rate)
+    cop = np.column_stack([on_grid[:, 3:5], np.zeros(grid.size)])
+    return MotionTrial(mk.channels["time_s"] - t0, mk.channels["position_m"], list(labels), grid - t0,
+                       on_grid[:, :3], cop, np.nan_to_num(on_grid[:, 5]), str(trial.path),
+                       {"plate_identity": fp.identity, "mocap_identity": mk.identity})
+
+
+def export_trial(trial: TrialFile, fmt: str, out: str | Path, subject: dict[str, Any] | None = None) -> list[Path]:
+    """Write ``trial`` as ``fmt`` to ``out``; returns the files written.
+
+    :raises ExportError: unknown format, or this trial has no such export.
+    """
+    out = Path(out)
+    if fmt not in FORMATS:
+        raise ExportError(f"unknown export format {fmt!r}; one of {FORMATS}")
+    name = trial.metadata["protocol"]["name"]
+    if fmt == "c3d":
+        write_c3d(out, motion_trial(trial))
+        return [out]
+    if fmt == "sto":
+        if name == "aads":
+            m = motion_trial(trial)
+            ok = ~np.isnan(m.force_n[:, 0])
+            write_sto(out, {"time": m.plate_time_s[ok],
+                            **{f"ground_force_v{a}": m.force_n[ok, i] for i, a in enumerate("xyz")},
+                            **{f"ground_force_p{a}": np.nan_to_num(m.cop_m[ok, i]) for i, a in enumerate("xyz")},
+                            "ground_torque_x": np.zeros(ok.sum()), "ground_torque_y": np.zeros(ok.sum()),
+                            "ground_torque_z": m.free_moment_nm[ok]}, name=f"aads trial {trial.path.stem}",
+                      in_degrees=False)
+            return [out]
+        table = trial_table(trial, subject)
+        coord = {"knee": "knee_angle_r", "ankle": "ankle_angle_r", "replica": "knee_angle_r"}[name]
+        cols = {"time": table.time_s, coord: table.angle_deg, f"{coord}_moment": table.torque_nm}
+        if "velocity_deg_s" in table.columns:
+            cols[f"{coord}_speed"] = table.columns["velocity_deg_s"]
+        write_sto(out, cols, name=f"{name} trial {trial.path.stem}", in_degrees=True)
+        return [out]
+    write_trial_csv(out, trial_table(trial, subject))
+    return [out, out.with_suffix(".json")]
