@@ -21,6 +21,8 @@ import json
 import logging
 import os
 import queue
+import re
+import shutil
 import threading
 import time
 from collections.abc import Iterable
@@ -341,33 +343,74 @@ class RecoveryReport:
     defect: str = ""
 
 
+def _valid_rows(dset: h5py.Dataset, real_size: int) -> int:
+    """Rows of ``dset`` whose chunks were all written and lie wholly inside the first ``real_size`` bytes.
+
+    A chunk never allocated (the write failed first) would read back as fill values: it ends the valid rows.
+    """
+    rows = dset.shape[0]
+    if not dset.chunks:
+        return rows
+    step = dset.chunks[0]
+    good = set()
+    for i in range(dset.id.get_num_chunks()):
+        info = dset.id.get_chunk_info(i)
+        if info.byte_offset is not None and info.byte_offset + info.size <= real_size:
+            good.add(info.chunk_offset[0])
+    start = 0
+    while start < rows and start in good:
+        start += step
+    return min(rows, start)
+
+
 def recover_trial_file(path: str | Path) -> RecoveryReport:
     """Make an interrupted trial file clean: copy what its writer flushed into a new file, status ``interrupted``.
 
-    A file that cannot be read at all is left in place untouched and reported (``readable`` False).
+    Handles a writer killed mid-trial (SWMR file left open) and a disk that filled mid-write (the
+    file ends before HDF5's recorded end): rows whose chunks lie past the real end of the file
+    are cut, never returned as zeros. The original bytes of a damaged file are kept beside it as
+    ``*.damaged``. A file that cannot be read at all is left untouched and reported (``readable`` False).
     """
     path = Path(path)
     t0 = time.perf_counter()
+    work, real_size = path, path.stat().st_size if path.exists() else 0
     try:
-        trial = read_trial(path)
+        read_trial(path)
     except CorruptFileError as err:
-        return RecoveryReport(path, {}, time.perf_counter() - t0, False, err.defect)
+        m = re.search(r"stored_eof = (\d+)", err.defect)
+        if m is None:
+            return RecoveryReport(path, {}, time.perf_counter() - t0, False, err.defect)
+        work = path.with_suffix(".padded")
+        shutil.copyfile(path, work)
+        with open(work, "r+b") as fh:
+            fh.truncate(int(m.group(1)))
     tmp = path.with_suffix(".recovering")
-    with h5py.File(path, "r", swmr=True, libver="latest") as src, h5py.File(tmp, "w", libver="latest") as dst:
-        for key, value in src.attrs.items():
-            dst.attrs[key] = value
-        for key in src:
-            src.copy(src[key], dst, name=key)
-        dst.attrs["status"] = "interrupted"
-        dst.attrs["summary"] = json.dumps({"recovered_at": time.time(),
-                                           "samples": {n: d.samples for n, d in trial.devices.items()}})
-        for name, d in trial.devices.items():  # cut any channel flushed further than its siblings
-            for channel in dst["devices"][name]:
-                if channel != "gaps" and dst["devices"][name][channel].shape[0] != d.samples:
-                    dst["devices"][name][channel].resize(d.samples, axis=0)
+    samples: dict[str, int] = {}
+    try:
+        with h5py.File(work, "r", swmr=True, libver="latest") as src, h5py.File(tmp, "w", libver="latest") as dst:
+            for key, value in src.attrs.items():
+                dst.attrs[key] = value
+            for key in src:
+                src.copy(src[key], dst, name=key)
+            for name, g in src["devices"].items():
+                rows = min(_valid_rows(d, real_size) for k, d in g.items() if k != "gaps")
+                samples[name] = rows
+                for channel in dst["devices"][name]:
+                    if channel != "gaps" and dst["devices"][name][channel].shape[0] != rows:
+                        dst["devices"][name][channel].resize(rows, axis=0)
+            dst.attrs["status"] = "interrupted"
+            dst.attrs["summary"] = json.dumps({"recovered_at": time.time(), "samples": samples})
+    except (OSError, KeyError) as err:
+        tmp.unlink(missing_ok=True)
+        return RecoveryReport(path, {}, time.perf_counter() - t0, False, f"cannot recover: {err}")
+    finally:
+        if work != path:
+            work.unlink(missing_ok=True)
     _fsync_path(tmp)
+    if work != path:
+        os.replace(path, path.with_suffix(".damaged"))
     os.replace(tmp, path)
-    return RecoveryReport(path, {n: d.samples for n, d in trial.devices.items()}, time.perf_counter() - t0, True)
+    return RecoveryReport(path, samples, time.perf_counter() - t0, True)
 
 
 def _fsync_path(path: Path) -> None:

@@ -345,6 +345,13 @@ class SessionStore:
         reports = []
         host = socket.gethostname()
         for t in self.trials():
+            if t.status == "failed" and t.path.exists() and _needs_repair(t.path):
+                report = recover_trial_file(t.path)
+                reports.append(report)
+                if report.readable:
+                    self.finish_trial(t.id, "failed", {n: {"samples": s} for n, s in report.samples.items()},
+                                      reason=f"{t.reason}; data recovered up to the last complete write")
+                continue
             if t.status != "recording":
                 continue
             row = self._db.execute("SELECT writer_host, writer_pid FROM trials WHERE id=?", (t.id,)).fetchone()
@@ -357,6 +364,16 @@ class SessionStore:
                       if report.readable else f"writer stopped; data file unreadable: {report.defect}")
             self.finish_trial(t.id, "interrupted", counts, reason=reason)
         return reports
+
+
+def _needs_repair(path: Path) -> bool:
+    from .errors import CorruptFileError
+    from .recording import read_trial
+
+    try:
+        return read_trial(path).status == "recording"
+    except CorruptFileError:
+        return True
 
 
 def _pid_alive(pid: int | None) -> bool:
