@@ -43,9 +43,13 @@ def read_c3d(path: str | Path, *, plate: int = 0, require_plate: bool = True) ->
     except Exception as err:  # noqa: BLE001 - ezc3d raises bare RuntimeError/ValueError/IOError
         raise DataFileError(path, f"not a readable C3D file: {err}") from err
     params = c["parameters"]
-    rate = float(params["POINT"]["RATE"]["value"][0])
+    try:
+        rate = float(params["POINT"]["RATE"]["value"][0])
+    except (KeyError, IndexError) as err:
+        raise DataFileError(path, "no POINT:RATE parameter") from err
     labels = [str(s).strip() for s in params["POINT"]["LABELS"]["value"]]
-    unit = str(params["POINT"]["UNITS"]["value"][0]) if "UNITS" in params["POINT"] else "mm"
+    units = params["POINT"].get("UNITS", {}).get("value", [])
+    unit = str(units[0]) if len(units) else "mm"
     pts = np.asarray(c["data"]["points"], dtype=float)  # (4, markers, frames)
     markers = np.transpose(pts[:3], (2, 1, 0)) * _scale(unit, "point", path)
     if "meta_points" in c["data"] and c["data"]["meta_points"]["residuals"].size:

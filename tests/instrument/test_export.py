@@ -1,0 +1,127 @@
+"""Exports: sto/csv/c3d round trips preserve values and units; bad files give clear errors."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from analysis.c3d import read_c3d, write_c3d
+from analysis.errors import DataFileError
+from analysis.motion import MotionTrial
+from analysis.sto import read_sto, write_sto
+from analysis.trial_csv import TrialTable, read_trial_csv, write_trial_csv
+from instrument.export import ExportError, arm_gravity_moment_nm, export_trial
+from instrument.protocols import AadsProtocol, KneeProtocol
+from instrument.recording import read_trial
+from instrument.session import record_trial
+from instrument.simulate import simulated_devices, simulation_metadata
+from instrument.store import SessionStore, Subject
+
+
+def synthetic_motion(seed: int = 0) -> MotionTrial:
+    rng = np.random.default_rng(seed)
+    n, k = 40, 400
+    force = np.column_stack([rng.normal(0, 20, k), rng.normal(0, 10, k), 80 + 60 * rng.random(k)])
+    cop = np.column_stack([rng.normal(0, 0.05, k), rng.normal(0, 0.03, k), np.zeros(k)])
+    return MotionTrial(np.arange(n) / 100, rng.normal(0, 0.2, (n, 4, 3)), ["RTOE1", "RHEE", "RMMAL", "RLMAL"],
+                       np.arange(k) / 1000, force, cop, rng.normal(0, 0.5, k))
+
+
+def test_c3d_round_trip_preserves_markers_forces_cop_and_free_moment(tmp_path: Path) -> None:
+    m = synthetic_motion()
+    write_c3d(tmp_path / "t.c3d", m)
+    r = read_c3d(tmp_path / "t.c3d")
+    assert r.marker_labels == m.marker_labels
+    np.testing.assert_allclose(r.markers_m, m.markers_m, atol=1e-7)        # m (written in mm, float32)
+    np.testing.assert_allclose(r.force_n, m.force_n, atol=2e-5)            # N
+    np.testing.assert_allclose(r.cop_m, m.cop_m, atol=1e-7)                # m
+    np.testing.assert_allclose(r.free_moment_nm, m.free_moment_nm, atol=1e-6)  # N·m
+    np.testing.assert_allclose(r.plate_time_s, m.plate_time_s, atol=1e-12)
+
+
+def test_c3d_bad_inputs(tmp_path: Path) -> None:
+    (tmp_path / "junk.c3d").write_bytes(b"\x02\x50" + bytes(600))
+    with pytest.raises(DataFileError, match="junk.c3d"):
+        read_c3d(tmp_path / "junk.c3d")
+    good = tmp_path / "good.c3d"
+    write_c3d(good, synthetic_motion())
+    (tmp_path / "cut.c3d").write_bytes(good.read_bytes()[:1500])
+    with pytest.raises(DataFileError, match="cut.c3d"):
+        read_c3d(tmp_path / "cut.c3d")
+    import ezc3d
+    c = ezc3d.c3d()
+    c["parameters"]["POINT"]["RATE"]["value"] = [100.0]
+    c["parameters"]["POINT"]["LABELS"]["value"] = ["A"]
+    c["data"]["points"] = np.ones((4, 1, 5))
+    c.write(str(tmp_path / "noplate.c3d"))
+    with pytest.raises(DataFileError, match="no force platform"):
+        read_c3d(tmp_path / "noplate.c3d")
+    assert read_c3d(tmp_path / "noplate.c3d", require_plate=False).markers_m.shape == (5, 1, 3)
+
+
+def test_sto_and_csv_round_trips(tmp_path: Path) -> None:
+    t = np.linspace(0, 18, 1801)
+    cols = {"time": t, "knee_angle_r": 5 * t, "knee_angle_r_moment": np.sin(t) * 12.345678901}
+    write_sto(tmp_path / "k.sto", cols)
+    back, header = read_sto(tmp_path / "k.sto")
+    assert header["inDegrees"] == "yes" and header["nRows"] == "1801"
+    for k in cols:
+        np.testing.assert_allclose(back[k], cols[k], rtol=1e-11, atol=1e-12)
+    table = TrialTable({"time_s": t, "angle_deg": 5 * t, "torque_Nm": np.cos(t), "velocity_deg_s": np.full_like(t, 5)},
+                       {"kind": "knee", "hip_flexion_deg": 90.0, "subject": {"mass_kg": 75.0}})
+    write_trial_csv(tmp_path / "k.csv", table)
+    r = read_trial_csv(tmp_path / "k.csv")
+    assert r.sidecar == table.sidecar
+    for k, v in table.columns.items():
+        np.testing.assert_array_equal(r.columns[k], v)  # 17 significant digits: exact
+    text = (tmp_path / "k.sto").read_text().splitlines()
+    (tmp_path / "cut.sto").write_text("\n".join(text[:100]))
+    with pytest.raises(DataFileError, match="truncated"):
+        read_sto(tmp_path / "cut.sto")
+    (tmp_path / "bad.csv").write_text("time_s,torque_Nm\n0,1\n")
+    with pytest.raises(DataFileError, match="angle_deg"):
+        read_trial_csv(tmp_path / "bad.csv")
+
+
+def test_arm_weight_compensation_signs() -> None:
+    # knee: arm horizontal at 0° pulls toward flexion; hanging at 90° it pulls nowhere
+    np.testing.assert_allclose(arm_gravity_moment_nm("knee", np.array([0.0, 90.0]), 2.0, 0.25), [4.905, 0.0], atol=1e-12)
+    # ankle, knee at 90°: footplate horizontal at 0° dorsiflexion, gravity plantarflexes
+    assert arm_gravity_moment_nm("ankle", np.array([0.0]), 2.0, 0.25, knee_flexion_deg=90.0)[0] == pytest.approx(-4.905)
+
+
+def test_recorded_trials_export_with_the_documented_conventions(tmp_path: Path) -> None:
+    store = SessionStore(tmp_path / "store")
+    store.add_subject(Subject("S01", mass_kg=75.0))
+    session = store.new_session("S01")
+    knee = KneeProtocol(end_deg=12.0, speed_deg_s=10.0)
+    with simulated_devices(knee) as (lab, devices):
+        out = record_trial(store, session, knee, devices, extra_metadata=simulation_metadata(lab))
+        leg = lab.config.leg
+    trial = read_trial(out.path)
+    files = export_trial(trial, "csv", tmp_path / "knee.csv", {"mass_kg": 75.0})
+    table = read_trial_csv(files[0])
+    assert table.sidecar["kind"] == "knee" and table.sidecar["hip_flexion_deg"] == 90.0
+    steady = np.abs(table.columns["velocity_deg_s"] - 10.0) < 0.05
+    # torque against flexion = passive + limb weight (arm weight removed), plus damping while moving
+    expected = -(leg.passive_moment_nm(table.angle_deg) + leg.gravity_moment_nm(table.angle_deg, include_arm=False))
+    expected += leg.damping_nm_s_per_rad * np.deg2rad(10.0)
+    assert steady.sum() > 50
+    err = table.torque_nm[steady] - expected[steady]
+    assert np.abs(err).max() < 0.4 and abs(err.mean()) < 0.1  # 0.05 N·m noise; one 10 ms sample ≈ 0.25 N·m here
+    aads = AadsProtocol(spring=3, duration_s=1.5)
+    with simulated_devices(aads) as (lab, devices):
+        out = record_trial(store, session, aads, devices)
+    trial = read_trial(out.path)
+    with pytest.raises(ExportError, match="analyze afo"):
+        export_trial(trial, "csv", tmp_path / "a.csv")
+    export_trial(trial, "c3d", tmp_path / "a.c3d")
+    c3d = read_c3d(tmp_path / "a.c3d")
+    fp = trial.devices["force_plate"].channels
+    assert c3d.marker_labels[:4] == ["RTOE1", "RTOE5", "RMCUN", "RHEE"]
+    assert abs(np.nanmean(c3d.force_n[:, 2]) - np.mean(fp["force_n"][:, 2])) < 2.0
+    export_trial(trial, "sto", tmp_path / "a.mot")
+    cols, _ = read_sto(tmp_path / "a.mot")
+    assert "ground_force_vz" in cols and abs(np.mean(cols["ground_force_vz"]) - np.mean(fp["force_n"][:, 2])) < 2.0
