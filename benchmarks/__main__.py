@@ -8,7 +8,7 @@ import json
 import sys
 from pathlib import Path
 
-BENCHMARKS = {"drivers": "benchmarks.drivers"}
+BENCHMARKS = {"drivers": "benchmarks.drivers", "recording": "benchmarks.recording"}
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -83,7 +83,40 @@ def physics_summary(results: dict[str, StreamResult]) -> dict[str, float]:
     }
 
 
-def main(seconds: float = 4.0, out: Path | None = None, faults: bool = True) -> int:
+def lab_day(out: Path, quick: bool) -> tuple[list[dict[str, Any]], bool]:
+    """Record the simulated lab day into ``out/store`` and export one trial of each kind."""
+    from .export import export_trial
+    from .lab_day import record_lab_day, summary_rows
+    from .recording import read_trial
+
+    store_dir = out / "store"
+    if (store_dir / "store.sqlite").exists():
+        (store_dir / "store.sqlite").unlink()
+    print(f"\nRecording a simulated lab day into {store_dir} (AADS 3 springs, knee hip 90/55/15°, "
+          f"ankle knee 0/45/90°, replica leg; rooms in parallel) ...")
+    store, outcomes = record_lab_day(store_dir, quick=quick)
+    rows = summary_rows(store)
+    print(f"{'trial':>5} {'protocol':<8} {'status':<10} {'samples':<42} condition")
+    for r in rows:
+        samples = " ".join(f"{n}={c}" for n, c in r["samples"].items())
+        print(f"{r['trial']:>5} {r['protocol']:<8} {r['status']:<10} {samples:<42} {r['condition']}")
+    exports = out / "exports"
+    exports.mkdir(exist_ok=True)
+    done = set()
+    for t in store.trials():
+        if t.protocol in done:
+            continue
+        done.add(t.protocol)
+        trial = read_trial(t.path)
+        fmt = "c3d" if t.protocol == "aads" else "csv"
+        files = export_trial(trial, fmt, exports / f"trial{t.id}-{t.protocol}.{fmt}", store.subject(t.subject_code).as_dict())
+        print(f"  exported trial {t.id} ({t.protocol}) -> {files[0]}")
+    ok = all(r["status"] == "recorded" and not any(r["lost"].values()) for r in rows)
+    store.close()
+    return rows, ok
+
+
+def main(seconds: float = 4.0, out: Path | None = None, faults: bool = True, quick: bool = True) -> int:
     """Run the demo; returns a process exit code (0 when every device streamed cleanly)."""
     print(f"Simulated lab: force plate (serial framing over TCP), dynamometer (CAN, virtual bus), "
           f"torque sensor (Modbus RTU, {LabConfig().torque_baud} baud emulated); {seconds:.0f} s each run.")
@@ -106,6 +139,8 @@ def main(seconds: float = 4.0, out: Path | None = None, faults: bool = True) -> 
         ok = ok and all(r["samples"] > 0 for r in frows)
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)
+        report["lab_day"], day_ok = lab_day(out, quick)
+        ok = ok and day_ok
         (out / "demo.json").write_text(json.dumps(report, indent=2, default=float))
         print(f"\nwrote {out / 'demo.json'}")
     return 0 if ok else 1

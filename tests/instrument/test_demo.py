@@ -18,3 +18,13 @@ def test_demo_streams_every_device(tmp_path: Path, capsys) -> None:
     drill = {r["device"]: r for r in report["fault_drill"]}
     assert sum(r["crc_errors"] for r in drill.values()) > 0
     assert "Fault drill" in capsys.readouterr().out
+
+
+def test_demo_records_a_lab_day_into_a_store(tmp_path: Path) -> None:
+    assert main(["demo", "--seconds", "1", "--no-faults", "--out", str(tmp_path)]) == 0
+    report = json.loads((tmp_path / "demo.json").read_text())
+    protocols = [r["protocol"] for r in report["lab_day"]]
+    assert sorted(protocols) == sorted(["aads"] * 3 + ["knee"] * 3 + ["ankle"] * 3 + ["replica"])
+    assert all(r["status"] == "recorded" for r in report["lab_day"])
+    assert main(["sessions", "--store", str(tmp_path / "store"), "--json"]) == 0
+    assert (tmp_path / "exports").is_dir() and len(list((tmp_path / "exports").glob("*.c3d"))) == 1
