@@ -6,17 +6,20 @@ import math
 import time
 from contextlib import contextmanager
 from collections.abc import Iterator
-from dataclasses import asdict
+from dataclasses import asdict, replace
 from typing import Any
 
+import numpy as np
+
+from analysis.motion import MotionTrial, cop_from_moment
 from drivers import StreamingDevice, open_dynamometer, open_force_plate, open_marker_stream, open_torque_sensor
-from drivers.simulation.aads_jig import AfoProperties
+from drivers.simulation.aads_jig import AadsJig, AfoProperties
 from drivers.simulation.faults import FaultConfig
 from drivers.simulation.lab import LabConfig, SimulatedLab
 from drivers.simulation.replica_leg import ReplicaLeg
 from drivers.simulation.seated_leg import SeatedLeg
 
-from .protocols import AadsProtocol, AnkleProtocol, KneeProtocol, ReplicaProtocol, TrialProtocol
+from .protocols import AADS_SPRINGS_N_PER_M, AadsProtocol, AnkleProtocol, KneeProtocol, ReplicaProtocol, TrialProtocol
 
 OPENERS = {"force_plate": open_force_plate, "dynamometer": open_dynamometer,
            "torque_sensor": open_torque_sensor, "mocap": open_marker_stream}
@@ -77,3 +80,42 @@ def simulation_metadata(lab: SimulatedLab) -> dict[str, Any]:
                              "theoretical_stiffness_nm_per_deg": lab.jig.theoretical_stiffness_nm_per_deg(),
                              "jig_time_origin_s": lab.force_plate.time_origin_s}
     return {"simulated": True, "simulation": truth}
+
+
+def synthesize_aads_trial(spring: int, operator: int, trial: int, *, seed: int = 0, afo: AfoProperties | None = None,
+                          marker_noise_m: float = 2e-4, plate_noise_n: float = 0.25, marker_rate_hz: int = 100,
+                          plate_rate_hz: int = 1000, occlusion_rate: float = 0.0) -> tuple[MotionTrial, dict[str, Any]]:
+    """One AADS trial sampled straight from the jig physics, without streaming it through the devices.
+
+    The same physics the device simulators serve (``AadsJig``), sampled offline so that a 60-trial
+    experiment takes seconds rather than an hour of real time. Markers carry Gaussian noise
+    (``marker_noise_m`` SD per axis) and occlusions; the plate wrench (about the plate's
+    calibration origin) carries ``plate_noise_n`` SD on forces and 5 % of it, in N·m, on moments,
+    like ``ForcePlateSimulator``. Returns the trial and the simulator's ground truth.
+    """
+    spring_n_per_m = AADS_SPRINGS_N_PER_M[spring]
+    props = replace(afo, spring_n_per_m=spring_n_per_m) if afo is not None else AfoProperties(spring_n_per_m=spring_n_per_m)
+    rng_seed = seed * 1000 + spring * 100 + operator * 10 + trial
+    jig = AadsJig(props, operator=operator, seed=rng_seed)
+    rng = np.random.default_rng(rng_seed + 1)
+    duration = jig.profile.duration_s
+    t_m = np.arange(int(duration * marker_rate_hz)) / marker_rate_hz
+    t_p = np.arange(int(duration * plate_rate_hz)) / plate_rate_hz
+    st_m = jig.state(t_m)
+    labels = list(st_m.markers_m)
+    markers = np.stack([st_m.markers_m[k] for k in labels], axis=1)
+    markers = markers + rng.normal(0.0, marker_noise_m, markers.shape)
+    if occlusion_rate > 0:
+        markers[rng.random(markers.shape[:2]) < occlusion_rate] = np.nan
+    st_p = jig.state(t_p)
+    sd = np.array([1.0, 1.0, 1.0, 0.05, 0.05, 0.05]) * plate_noise_n
+    loads = np.hstack([st_p.force_n, st_p.moment_nm]) + rng.normal(0.0, 1.0, (t_p.size, 6)) * sd
+    cop, free = cop_from_moment(loads[:, :3], loads[:, 3:], jig.plate_origin_m)
+    motion = MotionTrial(t_m, markers, labels, t_p, loads[:, :3], cop, free, f"sim-s{spring}-o{operator}-t{trial}",
+                         {"spring": spring, "operator": operator, "trial": trial})
+    truth = {"afo": asdict(props), "spring_n_per_m": spring_n_per_m,
+             "theoretical_stiffness_nm_per_deg": jig.theoretical_stiffness_nm_per_deg(),
+             "time_s": t_m, "hinge_deg": np.rad2deg(st_m.hinge_rad), "shank_deg": np.rad2deg(st_m.shank_rad),
+             "afo_torque_nm": st_m.afo_torque_nm, "spring_torque_nm": st_m.spring_torque_nm,
+             "operator_force_n": st_m.operator_force_n}
+    return motion, truth

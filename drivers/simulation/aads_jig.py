@@ -66,8 +66,8 @@ class AfoProperties:
 
     spring_n_per_m: float = 15600.0
     hinge_friction_nm: float = 0.15
-    hinge_friction_coeff: float = 0.04       # μ: friction torque per N·m of spring torque
-    shell_stiffness_nm_per_deg: float = 27.0  # None-like large value (1e9) switches compliance off
+    hinge_friction_coeff: float = 0.08       # μ: friction torque per N·m of spring torque
+    shell_stiffness_nm_per_deg: float = 10.0  # a very large value (1e9) switches compliance off
     stop_stiffness_nm_per_deg: float = 3.0
     friction_velocity_rad_s: float = 0.02
 

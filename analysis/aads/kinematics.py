@@ -1,0 +1,231 @@
+"""Segment poses and the hinge angle of the AADS jig from marker trajectories (SI; degrees at the edge).
+
+Per frame, each segment's pose is the least-squares rigid fit (SVD, Kabsch/Söderkvist) of its
+model markers to the measured ones that are present; a segment needs 3 markers that are not on a
+line. Then:
+
+1. the raw fit gives the marker residuals that judge the data (the dissertation accepts a
+   maximum < 2 cm and an RMS < 1 cm) and fills each missing marker from its segment's pose;
+2. frames where a segment cannot be fit are bridged by linear interpolation when the gap is at
+   most ``max_gap_s``; longer gaps stay out (the frames are flagged, never invented);
+3. the filled trajectories are low-pass filtered (``analysis.filtering.lowpass``) and the poses
+   fit again: these are the poses whose derivatives give velocities and accelerations;
+4. the hinge angle is the twist of the shank relative to the foot about the hinge axis
+   (swing–twist decomposition), positive in dorsiflexion.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from ..errors import InputError
+from ..filtering import derivative, finite_runs, lowpass
+from ..motion import MotionTrial
+from .model import JigModel, Segment
+
+#: markers of a segment must spread at least this far (RMS distance from their line, m) to fix a pose
+MIN_SPREAD_M = 0.005
+
+
+def fit_poses(model_m: np.ndarray, measured_m: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Least-squares rigid poses of a marker cluster, every frame at once.
+
+    :param model_m: marker coordinates in the segment frame (markers, 3), m.
+    :param measured_m: measured positions (frames, markers, 3) in the lab, m; NaN where missing.
+    :returns: rotation (frames, 3, 3) segment→lab, origin (frames, 3) m, fit-ok (frames,) and the
+        distance of each measured marker from its fitted position (frames, markers) m (NaN if missing).
+    """
+    n, m, _ = measured_m.shape
+    w = np.all(np.isfinite(measured_m), axis=2).astype(float)
+    y = np.nan_to_num(measured_m)
+    count = w.sum(axis=1)
+    safe = np.maximum(count, 1.0)
+    cx = (w @ model_m) / safe[:, None]
+    cy = np.einsum("nm,nmi->ni", w, y) / safe[:, None]
+    xc = model_m[None, :, :] - cx[:, None, :]
+    yc = y - cy[:, None, :]
+    h = np.einsum("nm,nmi,nmj->nij", w, xc, yc)
+    spread = np.einsum("nm,nmi,nmj->nij", w, xc, xc)
+    lam = np.linalg.eigvalsh(spread)  # ascending
+    ok = (count >= 3) & (np.sqrt(np.maximum(lam[:, 1], 0.0) / safe) >= MIN_SPREAD_M)
+    u, _, vt = np.linalg.svd(h)
+    d = np.sign(np.linalg.det(np.einsum("nji,nkj->nik", vt, u)))  # det(V Uᵀ)
+    d[d == 0] = 1.0
+    fix = np.ones((n, 3))
+    fix[:, 2] = d
+    rot = np.einsum("nji,nj,nkj->nik", vt, fix, u)  # V diag(1,1,d) Uᵀ
+    origin = cy - np.einsum("nij,nj->ni", rot, cx)
+    fitted = np.einsum("nij,mj->nmi", rot, model_m) + origin[:, None, :]
+    resid = np.linalg.norm(fitted - measured_m, axis=2)
+    rot[~ok] = np.nan
+    origin[~ok] = np.nan
+    resid[~ok] = np.nan
+    return rot, origin, ok, resid
+
+
+def hinge_twist_rad(rot_foot: np.ndarray, rot_shank: np.ndarray, axis_in_foot: np.ndarray) -> np.ndarray:
+    """Twist angle (rad) of the shank relative to the foot about the hinge axis (swing–twist)."""
+    rel = np.einsum("nji,njk->nik", rot_foot, rot_shank)  # shank in foot coordinates
+    ok = np.all(np.isfinite(rel), axis=(1, 2))
+    out = np.full(rel.shape[0], np.nan)
+    if ok.any():
+        q = Rotation.from_matrix(rel[ok]).as_quat()  # x, y, z, w
+        proj = q[:, :3] @ axis_in_foot
+        out[ok] = 2.0 * np.arctan2(proj, q[:, 3])
+        out[ok] = (out[ok] + np.pi) % (2 * np.pi) - np.pi
+    return out
+
+
+def _bridge_gaps(x: np.ndarray, valid: np.ndarray, max_gap: int) -> np.ndarray:
+    """Linear interpolation of ``x`` (n, ...) over runs of invalid frames no longer than ``max_gap`` frames."""
+    x = x.copy()
+    for a, b in finite_runs(~valid):
+        if a == 0 or b == valid.size or b - a > max_gap:
+            continue
+        frac = (np.arange(a, b) - (a - 1)) / (b - (a - 1))
+        x[a:b] = x[a - 1] + frac.reshape(-1, *([1] * (x.ndim - 1))) * (x[b] - x[a - 1])
+    return x
+
+
+def _vee(skew: np.ndarray) -> np.ndarray:
+    return 0.5 * np.stack([skew[:, 2, 1] - skew[:, 1, 2], skew[:, 0, 2] - skew[:, 2, 0],
+                           skew[:, 1, 0] - skew[:, 0, 1]], axis=1)
+
+
+@dataclass
+class SegmentMotion:
+    """A segment's filtered pose and its derivatives in the lab frame (SI)."""
+
+    name: str
+    rotation: np.ndarray       # (n, 3, 3) segment → lab
+    origin_m: np.ndarray       # (n, 3)
+    omega_rad_s: np.ndarray    # (n, 3) angular velocity
+    alpha_rad_s2: np.ndarray   # (n, 3) angular acceleration
+    com_m: np.ndarray          # (n, 3) centre of mass
+    com_acc_m_s2: np.ndarray   # (n, 3)
+
+    def point_m(self, local_m: np.ndarray) -> np.ndarray:
+        """Lab position (n, 3) of a point fixed in the segment."""
+        return np.einsum("nij,j->ni", self.rotation, np.asarray(local_m, dtype=float)) + self.origin_m
+
+
+@dataclass
+class MarkerQuality:
+    """Raw-fit marker residuals (m) against the dissertation's acceptance (max < 2 cm, RMS < 1 cm)."""
+
+    rms_m: float
+    max_m: float
+    per_marker_rms_m: dict[str, float]
+    frames_over_max: int
+    accepted: bool
+
+
+@dataclass
+class AadsKinematics:
+    """Kinematics of one trial at the marker frames."""
+
+    time_s: np.ndarray
+    rate_hz: float
+    foot: SegmentMotion
+    shank: SegmentMotion
+    hinge_angle_deg: np.ndarray        # (n,) dorsiflexion positive, filtered
+    hinge_velocity_deg_s: np.ndarray   # (n,)
+    valid: np.ndarray                  # (n,) both segments posed (measured or bridged) and filtered
+    unfit_frames: int                  # frames where a segment could not be fit from its markers
+    bridged_frames: int                # of those, frames bridged by interpolation
+    quality: MarkerQuality
+    hinge_gap_m: np.ndarray            # (n,) distance of the hinge point as the foot and the shank place it
+    markers_m: dict[str, np.ndarray]   # filtered trajectories (n, 3) of the markers the analysis uses
+    flags: list[str] = field(default_factory=list)
+
+
+def _segment_columns(trial: MotionTrial, seg: Segment, flags: list[str]) -> tuple[np.ndarray, np.ndarray]:
+    have = [k for k in seg.marker_labels if k in trial.marker_labels]
+    missing = [k for k in seg.marker_labels if k not in trial.marker_labels]
+    if len(have) < 3:
+        raise InputError(f"{trial.source or 'trial'}: the {seg.name} needs 3 of its markers {seg.marker_labels}; "
+                         f"missing {missing} (the file has {trial.marker_labels})")
+    if missing:
+        flags.append(f"{seg.name} markers {missing} are not in the file; posed from {have}")
+    model = np.array([seg.markers_m[k] for k in have])
+    meas = np.stack([trial.marker(k) for k in have], axis=1)
+    return model, meas
+
+
+def _motion(seg: Segment, rot: np.ndarray, origin: np.ndarray, dt: float) -> SegmentMotion:
+    rdot = derivative(rot, dt)
+    omega = _vee(np.einsum("nij,nkj->nik", rdot, rot))
+    com = np.einsum("nij,j->ni", rot, seg.com_m) + origin
+    return SegmentMotion(seg.name, rot, origin, omega, derivative(omega, dt), com,
+                         derivative(derivative(com, dt), dt))
+
+
+def aads_kinematics(trial: MotionTrial, model: JigModel) -> AadsKinematics:
+    """Poses, hinge angle and marker quality of one trial.
+
+    :raises InputError: a segment has fewer than 3 of its markers in the file, the marker clock is
+        not uniform, or no frame can be fit.
+    """
+    t = np.asarray(trial.marker_time_s, dtype=float)
+    if t.size < 20:
+        raise InputError(f"{trial.source or 'trial'}: {t.size} marker frames; the analysis needs at least 20")
+    steps = np.diff(t)
+    dt = float(np.median(steps))
+    if not dt > 0 or np.max(np.abs(steps - dt)) > 0.01 * dt:
+        raise InputError(f"{trial.source or 'trial'}: marker frames are not uniformly spaced")
+    rate = 1.0 / dt
+    flags: list[str] = []
+    max_gap = int(round(model.max_gap_s * rate))
+    filtered: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+    raw_ok_all = np.ones(t.size, dtype=bool)
+    bridged_all = np.ones(t.size, dtype=bool)
+    residuals, labels = [], []
+    for seg in (model.foot, model.shank):
+        x_model, meas = _segment_columns(trial, seg, flags)
+        rot, origin, ok, resid = fit_poses(x_model, meas)
+        residuals.append(np.where(np.isfinite(meas[..., 0]), resid, np.nan))
+        labels += [k for k in seg.marker_labels if k in trial.marker_labels]
+        filled = np.where(np.isfinite(meas), meas, np.einsum("nij,mj->nmi", rot, x_model) + origin[:, None, :])
+        filled[~ok] = np.nan
+        bridged = _bridge_gaps(filled, ok, max_gap)
+        has = np.all(np.isfinite(bridged), axis=(1, 2))
+        raw_ok_all &= ok
+        bridged_all &= has
+        smooth = lowpass(bridged, rate, model.filter_cutoff_hz)
+        rot_f, origin_f, ok_f, _ = fit_poses(x_model, smooth)
+        filtered[seg.name] = (rot_f, origin_f)
+    if not bridged_all.any():
+        raise InputError(f"{trial.source or 'trial'}: no frame has enough markers to pose both segments")
+    res = np.concatenate(residuals, axis=1)
+    with np.errstate(invalid="ignore"):
+        rms = float(np.sqrt(np.nanmean(res**2))) if np.isfinite(res).any() else float("nan")
+        mx = float(np.nanmax(res)) if np.isfinite(res).any() else float("nan")
+        per = {k: float(np.sqrt(np.nanmean(res[:, i] ** 2))) if np.isfinite(res[:, i]).any() else float("nan")
+               for i, k in enumerate(labels)}
+        over = int(np.sum(np.nanmax(np.where(np.isfinite(res), res, -1.0), axis=1) > model.max_marker_error_m))
+    quality = MarkerQuality(rms, mx, per, over, bool(mx < model.max_marker_error_m and rms < model.rms_marker_error_m))
+    if not quality.accepted:
+        flags.append(f"marker fit outside acceptance: max {mx * 1e3:.1f} mm (limit {model.max_marker_error_m * 1e3:.0f}), "
+                     f"RMS {rms * 1e3:.1f} mm (limit {model.rms_marker_error_m * 1e3:.0f})")
+    foot = _motion(model.foot, *filtered["foot"], dt)
+    shank = _motion(model.shank, *filtered["shank"], dt)
+    angle = np.rad2deg(hinge_twist_rad(foot.rotation, shank.rotation, model.hinge_axis_in_foot))
+    valid = (np.isfinite(angle) & np.all(np.isfinite(foot.com_acc_m_s2), axis=1)
+             & np.all(np.isfinite(shank.com_acc_m_s2), axis=1) & np.all(np.isfinite(shank.alpha_rad_s2), axis=1)
+             & np.all(np.isfinite(foot.alpha_rad_s2), axis=1))
+    unfit = int(np.sum(~raw_ok_all))
+    if unfit:
+        flags.append(f"{unfit} frames could not be fit from their markers; {int(np.sum(bridged_all & ~raw_ok_all))} "
+                     f"bridged (gaps ≤ {model.max_gap_s * 1e3:.0f} ms), {int(np.sum(~valid))} left out")
+    gap = np.linalg.norm(foot.point_m(model.hinge_in_foot_m) - shank.point_m(model.hinge_in_shank_m), axis=1)
+    hooks: dict[str, np.ndarray] = {}
+    for name in (model.spring_top_marker, model.spring_bottom_marker):
+        if name in trial.marker_labels:
+            raw = trial.marker(name)
+            hooks[name] = lowpass(_bridge_gaps(raw, np.all(np.isfinite(raw), axis=1), max_gap), rate,
+                                  model.filter_cutoff_hz)
+    return AadsKinematics(t, rate, foot, shank, angle, derivative(angle, dt), valid, unfit,
+                          int(np.sum(bridged_all & ~raw_ok_all)), quality, gap, hooks, flags)

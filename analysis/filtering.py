@@ -1,0 +1,60 @@
+"""Zero-lag low-pass filtering and differentiation of sampled signals with gaps (SI units).
+
+The filter is a Butterworth low-pass of 2nd order run forward and backward (``sosfiltfilt``), so
+4th order overall and without phase lag. A double pass moves the −3 dB point down; the design
+cutoff is raised by 1/0.802 (Winter, *Biomechanics and Motor Control of Human Movement*, 4th
+ed., §3.4.4.3) so that the filtered signal is −3 dB at the cutoff the caller asked for.
+Signals are filtered run by run: samples that are NaN split the signal, and a run too short to
+filter (fewer than 16 samples) is returned as NaN, never as unfiltered data.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import signal
+
+from .errors import InputError
+
+#: Winter's correction for a 2nd-order Butterworth run twice
+DOUBLE_PASS_CORRECTION = 0.802
+MIN_RUN_SAMPLES = 16
+
+
+def finite_runs(valid: np.ndarray) -> list[tuple[int, int]]:
+    """[start, stop) index pairs of the runs of True in ``valid``."""
+    v = np.concatenate([[False], np.asarray(valid, dtype=bool), [False]])
+    edges = np.flatnonzero(np.diff(v.astype(np.int8)))
+    return list(zip(edges[::2].tolist(), edges[1::2].tolist()))
+
+
+def lowpass(x: np.ndarray, rate_hz: float, cutoff_hz: float) -> np.ndarray:
+    """Zero-lag 4th-order Butterworth low-pass along axis 0; NaN rows split the signal into runs.
+
+    :param x: samples (n, ...) at ``rate_hz``.
+    :raises InputError: the cutoff is not below the Nyquist frequency.
+    """
+    x = np.asarray(x, dtype=float)
+    corrected = cutoff_hz / DOUBLE_PASS_CORRECTION
+    if not 0 < corrected < 0.5 * rate_hz:
+        raise InputError(f"low-pass cutoff {cutoff_hz} Hz (corrected {corrected:.2f} Hz) must be in (0, "
+                         f"{0.5 * rate_hz:.1f}) Hz at {rate_hz} Hz sampling")
+    sos = signal.butter(2, corrected, fs=rate_hz, output="sos")
+    flat = x.reshape(x.shape[0], -1)
+    out = np.full_like(flat, np.nan)
+    valid = np.all(np.isfinite(flat), axis=1)
+    for a, b in finite_runs(valid):
+        if b - a >= MIN_RUN_SAMPLES:
+            out[a:b] = signal.sosfiltfilt(sos, flat[a:b], axis=0, padlen=min(b - a - 1, 3 * 7))
+    return out.reshape(x.shape)
+
+
+def derivative(x: np.ndarray, dt_s: float) -> np.ndarray:
+    """Time derivative along axis 0 by second-order central differences, within finite runs (NaN elsewhere)."""
+    x = np.asarray(x, dtype=float)
+    flat = x.reshape(x.shape[0], -1)
+    out = np.full_like(flat, np.nan)
+    valid = np.all(np.isfinite(flat), axis=1)
+    for a, b in finite_runs(valid):
+        if b - a >= 3:
+            out[a:b] = np.gradient(flat[a:b], dt_s, axis=0, edge_order=2)
+    return out.reshape(x.shape)
