@@ -45,7 +45,38 @@ def build_parser() -> argparse.ArgumentParser:
     exp.add_argument("--store", type=Path, default=None)
     exp.add_argument("--format", choices=("sto", "csv", "c3d"), required=True)
     exp.add_argument("-o", "--output", type=Path, required=True)
+
+    ana = sub.add_parser("analyze", help="analyse recorded trials")
+    kinds = ana.add_subparsers(dest="kind", required=True)
+    afo = kinds.add_parser("afo", help="AFO stiffness by the AADS test (static optimisation, theory, ANOVA)")
+    afo.add_argument("trials", nargs="+", help="store trial ids, .h5 trial files or .c3d files")
+    afo.add_argument("--model", type=Path, default=None, help="jig/AFO model (.toml or .json); default: the dissertation's jig")
+    afo.add_argument("--store", type=Path, default=None, help="store folder for trial ids")
+    afo.add_argument("--spring", type=int, default=None, help="C3D input: spring number of the model")
+    afo.add_argument("--spring-n-per-m", type=float, default=None, help="C3D input: spring stiffness (N/m)")
+    afo.add_argument("--out", type=Path, default=Path("afo_report"), help="folder for the JSON report and PNG plots")
+    afo.add_argument("--json", action="store_true", help="print the JSON report instead of the tables")
     return parser
+
+
+def cmd_analyze(args: argparse.Namespace) -> int:
+    from analysis.aads.experiment import write_report
+    from analysis.aads.model import load_jig_model
+
+    from .afo import analyze_afo, resolve_trials
+
+    model = load_jig_model(args.model)
+    store = _store(args.store, read_only=True) if any(t.isdigit() and not Path(t).exists() for t in args.trials) else None
+    inputs = resolve_trials(args.trials, store, spring=args.spring, spring_n_per_m=args.spring_n_per_m, model=model)
+    experiment = analyze_afo(inputs, model)
+    files = write_report(experiment, args.out, model.fit_window_deg)
+    if args.json:
+        print(files[0].read_text())
+    else:
+        print(experiment.text())
+        for f in files:
+            print(f"wrote {f}")
+    return 0 if experiment.results and not experiment.failed else 1
 
 
 def _store(path: Path | None, read_only: bool = False):  # noqa: ANN202
@@ -133,7 +164,8 @@ def main(argv: list[str] | None = None) -> int:
             from .demo import main as demo_main
 
             return demo_main(args.seconds, args.out, faults=not args.no_faults)
-        return {"record": cmd_record, "sessions": cmd_sessions, "export": cmd_export}[args.command](args)
+        return {"record": cmd_record, "sessions": cmd_sessions, "export": cmd_export,
+                "analyze": cmd_analyze}[args.command](args)
     except (InstrumentError, OSError) as err:
         print(f"error: {err}", file=sys.stderr)
         return 1

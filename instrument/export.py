@@ -95,8 +95,31 @@ def trial_table(trial: TrialFile, subject: dict[str, Any] | None = None) -> Tria
                           {"kind": "replica", "hip_flexion_deg": 90.0, "ankle_dorsiflexion_deg": 0.0,
                            "subject": _subject_block(subject), "source": str(trial.path),
                            "trial_status": trial.status})
-    raise ExportError(f"{trial.path}: a {name} trial's angle and torque come from the AADS analysis; "
-                      "run `instrument analyze afo` (or export c3d/sto of the raw markers and plate)")
+    if name == "aads":
+        return aads_table(trial, subject)
+    raise ExportError(f"{trial.path}: no table export for {name!r} trials")
+
+
+def aads_table(trial: TrialFile, subject: dict[str, Any] | None = None, model_path: str | Path | None = None) -> TrialTable:
+    """An AADS trial's AFO torque (static optimisation) against the hinge angle, with the default or given jig model."""
+    from analysis.aads.model import load_jig_model
+    from analysis.aads.pipeline import analyze_trial
+
+    cond = trial.metadata["protocol"]["condition"]
+    model = load_jig_model(model_path)
+    res = analyze_trial(motion_trial(trial), model, spring_n_per_m=cond.get("spring_n_per_m"),
+                        factors={k: cond.get(k) for k in ("spring", "operator", "trial")})
+    ok = res.sop.valid
+    cols = {"time_s": res.time_s[ok], "angle_deg": res.angle_deg[ok], "torque_Nm": res.afo_torque_nm[ok],
+            "velocity_deg_s": res.velocity_deg_s[ok], "bottom_up_torque_Nm": res.bottom_up_torque_nm[ok],
+            **{f"operator_force_{a}_N": res.sop.operator_force_n[ok, i] for i, a in enumerate("xyz")},
+            **{f"operator_moment_{a}_Nm": res.sop.operator_moment_nm[ok, i] for i, a in enumerate("xyz")}}
+    if res.theory is not None:
+        cols["spring_torque_Nm"] = res.theory.torque_nm[ok]
+        cols["hook_angle_deg"] = res.theory.angle_deg[ok]
+    return TrialTable(cols, {"kind": "afo", "jig_model": model.source, "stiffness": res.summary(),
+                             "subject": _subject_block(subject), "source": str(trial.path),
+                             "trial_status": trial.status})
 
 
 def motion_trial(trial: TrialFile) -> MotionTrial:

@@ -13,7 +13,7 @@ import numpy as np
 
 from analysis.motion import MotionTrial, cop_from_moment
 from drivers import StreamingDevice, open_dynamometer, open_force_plate, open_marker_stream, open_torque_sensor
-from drivers.simulation.aads_jig import AadsJig, AfoProperties
+from drivers.simulation.aads_jig import AadsJig, AfoProperties, OperatorStyle
 from drivers.simulation.faults import FaultConfig
 from drivers.simulation.lab import LabConfig, SimulatedLab
 from drivers.simulation.replica_leg import ReplicaLeg
@@ -84,19 +84,21 @@ def simulation_metadata(lab: SimulatedLab) -> dict[str, Any]:
 
 def synthesize_aads_trial(spring: int, operator: int, trial: int, *, seed: int = 0, afo: AfoProperties | None = None,
                           marker_noise_m: float = 2e-4, plate_noise_n: float = 0.25, marker_rate_hz: int = 100,
-                          plate_rate_hz: int = 1000, occlusion_rate: float = 0.0) -> tuple[MotionTrial, dict[str, Any]]:
+                          plate_rate_hz: int = 1000, occlusion_rate: float = 0.0,
+                          style: OperatorStyle | None = None) -> tuple[MotionTrial, dict[str, Any]]:
     """One AADS trial sampled straight from the jig physics, without streaming it through the devices.
 
     The same physics the device simulators serve (``AadsJig``), sampled offline so that a 60-trial
     experiment takes seconds rather than an hour of real time. Markers carry Gaussian noise
     (``marker_noise_m`` SD per axis) and occlusions; the plate wrench (about the plate's
     calibration origin) carries ``plate_noise_n`` SD on forces and 5 % of it, in N·m, on moments,
-    like ``ForcePlateSimulator``. Returns the trial and the simulator's ground truth.
+    like ``ForcePlateSimulator``. ``style`` replaces operator ``operator``'s way of bending.
+    Returns the trial and the simulator's ground truth.
     """
     spring_n_per_m = AADS_SPRINGS_N_PER_M[spring]
     props = replace(afo, spring_n_per_m=spring_n_per_m) if afo is not None else AfoProperties(spring_n_per_m=spring_n_per_m)
     rng_seed = seed * 1000 + spring * 100 + operator * 10 + trial
-    jig = AadsJig(props, operator=operator, seed=rng_seed)
+    jig = AadsJig(props, operator=style or operator, seed=rng_seed)
     rng = np.random.default_rng(rng_seed + 1)
     duration = jig.profile.duration_s
     t_m = np.arange(int(duration * marker_rate_hz)) / marker_rate_hz

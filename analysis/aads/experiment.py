@@ -1,0 +1,174 @@
+"""An AADS experiment: many trials through the pipeline, Tables 2.1 and 2.2, a JSON report and PNG plots."""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import AnalysisError, FitError
+from ..motion import MotionTrial
+from .model import JigModel
+from .pipeline import AadsTrialResult, analyze_trial
+from .statistics import (AnovaRow, SpringRow, StiffnessRecord, anova_table, format_anova_table, format_spring_table,
+                         spring_table)
+
+
+@dataclass
+class TrialInput:
+    """A trial to analyse: the data, what is known of its factors, and the spring stiffness if known (N/m)."""
+
+    motion: MotionTrial
+    factors: dict[str, Any] = field(default_factory=dict)
+    spring_n_per_m: float | None = None
+
+
+@dataclass
+class AadsExperiment:
+    """Results of every trial, the trials that failed (with why), and the two tables where they apply."""
+
+    results: list[AadsTrialResult]
+    failed: dict[str, str]
+    springs: list[SpringRow]
+    anova: list[AnovaRow] | None
+    anova_error: str = ""
+
+    def records(self) -> list[StiffnessRecord]:
+        return records_of(self.results)
+
+    def as_dict(self) -> dict[str, Any]:
+        return {"trials": [r.summary() for r in self.results], "failed": self.failed,
+                "table_2_1": [r.as_dict() for r in self.springs],
+                "table_2_2": [r.as_dict() for r in self.anova] if self.anova else None,
+                "anova_error": self.anova_error}
+
+    def text(self) -> str:
+        """The per-trial table, Table 2.1 and Table 2.2, as printed by ``instrument analyze afo``."""
+        lines = [f"{'trial':<28}{'spring':>7}{'oper.':>6}{'#':>3}{'SOP Nm/°':>10}{'R²':>7}{'theory':>8}{'peak °':>8}"
+                 f"{'>stop':>6}{'hyst J':>8}{'mk RMS mm':>10}  flags"]
+        for r in self.results:
+            s = r.summary()
+            fit = r.stiffness.fits.get(r.stiffness.reported_branch)
+            lines.append(f"{Path(r.source).name[:27]:<28}{str(s.get('spring', '')):>7}{str(s.get('operator', '')):>6}"
+                         f"{str(s.get('trial', '')):>3}{s['stiffness_nm_per_deg']:>10.3f}"
+                         f"{(fit.r_squared if fit else float('nan')):>7.3f}{s['theoretical_stiffness_nm_per_deg']:>8.3f}"
+                         f"{r.stiffness.peak_angle_deg:>8.1f}{r.stiffness.frames_past_stop:>6}"
+                         f"{r.stiffness.hysteresis_area_j:>8.3f}{s['marker_rms_mm']:>10.2f}  {len(r.flags)}")
+        for name, why in self.failed.items():
+            lines.append(f"{Path(name).name[:27]:<28} FAILED: {why}")
+        if self.springs:
+            lines += ["", "Table 2.1: stiffness per spring (SOP mean ± SD over trials, theory from the spring hooks)",
+                      format_spring_table(self.springs)]
+        if self.anova:
+            lines += ["", "Table 2.2: multi-factor ANOVA of the SOP stiffness", format_anova_table(self.anova)]
+        elif self.anova_error:
+            lines += ["", f"no ANOVA: {self.anova_error}"]
+        return "\n".join(lines)
+
+
+def records_of(results: Iterable[AadsTrialResult]) -> list[StiffnessRecord]:
+    """Trials whose spring, operator and trial numbers are known, as statistics records."""
+    out = []
+    for r in results:
+        f = r.factors
+        if all(f.get(k) is not None for k in ("spring", "operator", "trial")):
+            out.append(StiffnessRecord(int(f["spring"]), int(f["operator"]), int(f["trial"]),
+                                       r.stiffness_nm_per_deg, r.theoretical_stiffness_nm_per_deg))
+    return out
+
+
+def analyze_experiment(trials: Iterable[TrialInput], model: JigModel) -> AadsExperiment:
+    """Analyse every trial; a trial that cannot be analysed is listed in ``failed``, never dropped silently."""
+    results, failed = [], {}
+    for t in trials:
+        try:
+            results.append(analyze_trial(t.motion, model, spring_n_per_m=t.spring_n_per_m, factors=t.factors))
+        except AnalysisError as err:
+            failed[t.motion.source or f"trial {len(results) + len(failed) + 1}"] = str(err)
+    recs = records_of(results)
+    springs = spring_table(recs) if recs else []
+    anova, why = None, ""
+    if recs:
+        try:
+            anova = anova_table(recs)
+        except FitError as err:
+            why = str(err)
+    else:
+        why = "no trial has its spring, operator and trial number"
+    return AadsExperiment(results, failed, springs, anova, why)
+
+
+def _json_default(o: Any) -> Any:
+    if isinstance(o, np.generic):
+        return o.item()
+    if isinstance(o, np.ndarray):
+        return o.tolist()
+    raise TypeError(type(o).__name__)
+
+
+def write_report(experiment: AadsExperiment, out_dir: str | Path,
+                 window_deg: tuple[float, float] = (6.0, 20.0)) -> list[Path]:
+    """Write ``afo_report.json``, ``torque_angle.png`` (Figure 2.4's layout, fit window shaded) and ``sop_vs_theory.png``."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    files = [out / "afo_report.json"]
+    files[0].write_text(json.dumps(experiment.as_dict(), indent=2, default=_json_default, allow_nan=True))
+    if not experiment.results:
+        return files
+    springs = sorted({r.factors.get("spring") for r in experiment.results}, key=lambda s: (s is None, s or 0))
+    operators = sorted({r.factors.get("operator") for r in experiment.results}, key=lambda s: (s is None, s or 0))
+    colors = {op: f"C{i}" for i, op in enumerate(operators)}
+    fig = Figure(figsize=(4 * len(springs), 7), layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(2, len(springs), squeeze=False, sharex=True)
+    for j, spring in enumerate(springs):
+        top, bottom = axes[0, j], axes[1, j]
+        seen = set()
+        for r in experiment.results:
+            if r.factors.get("spring") != spring:
+                continue
+            op = r.factors.get("operator")
+            label = f"operator {op}" if op not in seen else None
+            seen.add(op)
+            top.plot(r.angle_deg, r.afo_torque_nm, color=colors[op], lw=0.6, alpha=0.7, label=label)
+            if r.theory is not None:
+                bottom.plot(r.theory.angle_deg, r.theory.torque_nm, color=colors[op], lw=0.6, alpha=0.7)
+        for ax in (top, bottom):
+            ax.axvspan(*window_deg, color="0.92", zorder=0)
+            ax.grid(alpha=0.3)
+        top.set_title(f"spring {spring}: static optimisation")
+        bottom.set_title(f"spring {spring}: theory (eqs 2.1–2.9)")
+        bottom.set_xlabel("dorsiflexion (°)")
+        if j == 0:
+            top.set_ylabel("AFO torque (N·m)")
+            bottom.set_ylabel("spring torque (N·m)")
+            top.legend(fontsize=7)
+    files.append(out / "torque_angle.png")
+    fig.savefig(files[-1], dpi=110)
+    fig2 = Figure(figsize=(5, 4.5), layout="constrained")
+    FigureCanvasAgg(fig2)
+    ax = fig2.subplots()
+    k = np.array([r.stiffness_nm_per_deg for r in experiment.results])
+    th = np.array([r.theoretical_stiffness_nm_per_deg for r in experiment.results])
+    ops = [r.factors.get("operator") for r in experiment.results]
+    for op in operators:
+        sel = np.array([o == op for o in ops])
+        ax.scatter(th[sel], k[sel], s=14, color=colors[op], label=f"operator {op}")
+    finite = np.isfinite(th) & np.isfinite(k)
+    if finite.any():
+        lim = [0.0, 1.1 * float(max(th[finite].max(), k[finite].max()))]
+        ax.plot(lim, lim, "k--", lw=0.8, label="identity")
+    ax.set_xlabel("theoretical stiffness (N·m/°)")
+    ax.set_ylabel("SOP stiffness (N·m/°)")
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3)
+    files.append(out / "sop_vs_theory.png")
+    fig2.savefig(files[-1], dpi=110)
+    return files
