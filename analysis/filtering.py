@@ -10,6 +10,8 @@ filter (fewer than 16 samples) is returned as NaN, never as unfiltered data.
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 from scipy import signal
 
@@ -27,6 +29,11 @@ def finite_runs(valid: np.ndarray) -> list[tuple[int, int]]:
     return list(zip(edges[::2].tolist(), edges[1::2].tolist()))
 
 
+@lru_cache(maxsize=64)
+def _butter_sos(cutoff_hz: float, rate_hz: float) -> np.ndarray:
+    return signal.butter(2, cutoff_hz, fs=rate_hz, output="sos")
+
+
 def lowpass(x: np.ndarray, rate_hz: float, cutoff_hz: float) -> np.ndarray:
     """Zero-lag 4th-order Butterworth low-pass along axis 0; NaN rows split the signal into runs.
 
@@ -38,7 +45,7 @@ def lowpass(x: np.ndarray, rate_hz: float, cutoff_hz: float) -> np.ndarray:
     if not 0 < corrected < 0.5 * rate_hz:
         raise InputError(f"low-pass cutoff {cutoff_hz} Hz (corrected {corrected:.2f} Hz) must be in (0, "
                          f"{0.5 * rate_hz:.1f}) Hz at {rate_hz} Hz sampling")
-    sos = signal.butter(2, corrected, fs=rate_hz, output="sos")
+    sos = _butter_sos(round(corrected, 12), round(float(rate_hz), 12))
     flat = x.reshape(x.shape[0], -1)
     out = np.full_like(flat, np.nan)
     valid = np.all(np.isfinite(flat), axis=1)

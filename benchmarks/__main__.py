@@ -8,7 +8,7 @@ import json
 import sys
 from pathlib import Path
 
-BENCHMARKS = {"drivers": "benchmarks.drivers", "recording": "benchmarks.recording"}
+BENCHMARKS = {"drivers": "benchmarks.drivers", "recording": "benchmarks.recording", "aads": "benchmarks.aads"}
 
 
 def main(argv: list[str] | None = None) -> int:

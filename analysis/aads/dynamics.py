@@ -88,9 +88,10 @@ def plate_at_markers(trial: MotionTrial, time_s: np.ndarray, cutoff_hz: float) -
 
 def _inertial(seg: SegmentMotion, inertia_local: np.ndarray) -> np.ndarray:
     """Ḣ about the segment's COM in the lab frame: I α + ω × I ω (n, 3), N·m."""
-    i_lab = np.einsum("nij,jk,nlk->nil", seg.rotation, inertia_local, seg.rotation)
-    iw = np.einsum("nij,nj->ni", i_lab, seg.omega_rad_s)
-    return np.einsum("nij,nj->ni", i_lab, seg.alpha_rad_s2) + np.cross(seg.omega_rad_s, iw)
+    r = seg.rotation
+    i_lab = np.matmul(np.matmul(r, inertia_local), r.transpose(0, 2, 1))
+    iw = np.matmul(i_lab, seg.omega_rad_s[:, :, None])[:, :, 0]
+    return np.matmul(i_lab, seg.alpha_rad_s2[:, :, None])[:, :, 0] + np.cross(seg.omega_rad_s, iw)
 
 
 @dataclass
@@ -107,7 +108,7 @@ def jig_equations(kin: AadsKinematics, plate: PlateAtMarkers, model: JigModel) -
     """Assemble the equations of motion of every frame (vectorised)."""
     foot, shank = kin.foot, kin.shank
     m_f, m_s = model.foot.mass_kg, model.shank.mass_kg
-    axis = np.einsum("nij,j->ni", foot.rotation, model.hinge_axis_in_foot)
+    axis = foot.rotation @ model.hinge_axis_in_foot
     hinge = foot.point_m(model.hinge_in_foot_m)
     top = shank.point_m(model.pylon_top_in_shank_m)
     load_f = m_f * (foot.com_acc_m_s2 - G_M_S2)   # m (a − g): what the forces on the segment must supply

@@ -70,13 +70,14 @@ class AadsExperiment:
         return "\n".join(lines)
 
 
-def records_of(results: Iterable[AadsTrialResult]) -> list[StiffnessRecord]:
-    """Trials whose spring, operator and trial numbers are known, as statistics records."""
+def records_of(results: Iterable[AadsTrialResult], *, complete: bool = True) -> list[StiffnessRecord]:
+    """Trials as statistics records: those with spring, operator and trial numbers (``complete``), or a spring only."""
     out = []
     for r in results:
         f = r.factors
-        if all(f.get(k) is not None for k in ("spring", "operator", "trial")):
-            out.append(StiffnessRecord(int(f["spring"]), int(f["operator"]), int(f["trial"]),
+        needed = ("spring", "operator", "trial") if complete else ("spring",)
+        if all(f.get(k) is not None for k in needed):
+            out.append(StiffnessRecord(int(f["spring"]), int(f.get("operator") or 0), int(f.get("trial") or 0),
                                        r.stiffness_nm_per_deg, r.theoretical_stiffness_nm_per_deg))
     return out
 
@@ -89,8 +90,9 @@ def analyze_experiment(trials: Iterable[TrialInput], model: JigModel) -> AadsExp
             results.append(analyze_trial(t.motion, model, spring_n_per_m=t.spring_n_per_m, factors=t.factors))
         except AnalysisError as err:
             failed[t.motion.source or f"trial {len(results) + len(failed) + 1}"] = str(err)
+    with_spring = records_of(results, complete=False)
+    springs = spring_table(with_spring) if with_spring else []
     recs = records_of(results)
-    springs = spring_table(recs) if recs else []
     anova, why = None, ""
     if recs:
         try:

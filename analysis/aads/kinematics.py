@@ -4,12 +4,13 @@ Per frame, each segment's pose is the least-squares rigid fit (SVD, Kabsch/Söde
 model markers to the measured ones that are present; a segment needs 3 markers that are not on a
 line. Then:
 
-1. the raw fit gives the marker residuals that judge the data (the dissertation accepts a
-   maximum < 2 cm and an RMS < 1 cm) and fills each missing marker from its segment's pose;
+1. in frames with a marker missing, a fit on the markers present fills it from the segment's pose;
 2. frames where a segment cannot be fit are bridged by linear interpolation when the gap is at
    most ``max_gap_s``; longer gaps stay out (the frames are flagged, never invented);
 3. the filled trajectories are low-pass filtered (``analysis.filtering.lowpass``) and the poses
-   fit again: these are the poses whose derivatives give velocities and accelerations;
+   fit: these are the poses whose derivatives give velocities and accelerations, and the
+   distances of the measured markers from them are the residuals that judge the data (the
+   dissertation accepts a maximum < 2 cm and an RMS < 1 cm);
 4. the hinge angle is the twist of the shank relative to the foot about the hinge axis
    (swing–twist decomposition), positive in dorsiflexion.
 """
@@ -19,7 +20,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from ..errors import InputError
 from ..filtering import derivative, finite_runs, lowpass
@@ -39,26 +39,25 @@ def fit_poses(model_m: np.ndarray, measured_m: np.ndarray) -> tuple[np.ndarray, 
         distance of each measured marker from its fitted position (frames, markers) m (NaN if missing).
     """
     n, m, _ = measured_m.shape
-    w = np.all(np.isfinite(measured_m), axis=2).astype(float)
-    y = np.nan_to_num(measured_m)
+    present = np.all(np.isfinite(measured_m), axis=2)
+    w = present.astype(float)
+    y = np.where(present[..., None], measured_m, 0.0)
     count = w.sum(axis=1)
     safe = np.maximum(count, 1.0)
     cx = (w @ model_m) / safe[:, None]
-    cy = np.einsum("nm,nmi->ni", w, y) / safe[:, None]
+    cy = np.matmul(w[:, None, :], y)[:, 0, :] / safe[:, None]
     xc = model_m[None, :, :] - cx[:, None, :]
     yc = y - cy[:, None, :]
-    h = np.einsum("nm,nmi,nmj->nij", w, xc, yc)
-    spread = np.einsum("nm,nmi,nmj->nij", w, xc, xc)
-    lam = np.linalg.eigvalsh(spread)  # ascending
-    ok = (count >= 3) & (np.sqrt(np.maximum(lam[:, 1], 0.0) / safe) >= MIN_SPREAD_M)
+    h = np.matmul((w[..., None] * xc).transpose(0, 2, 1), yc)  # Σ w (x − x̄)(y − ȳ)ᵀ
+    ok = poseable(model_m, present)
     u, _, vt = np.linalg.svd(h)
-    d = np.sign(np.linalg.det(np.einsum("nji,nkj->nik", vt, u)))  # det(V Uᵀ)
+    v = vt.transpose(0, 2, 1)
+    d = np.sign(np.linalg.det(np.matmul(v, u.transpose(0, 2, 1))))
     d[d == 0] = 1.0
-    fix = np.ones((n, 3))
-    fix[:, 2] = d
-    rot = np.einsum("nji,nj,nkj->nik", vt, fix, u)  # V diag(1,1,d) Uᵀ
-    origin = cy - np.einsum("nij,nj->ni", rot, cx)
-    fitted = np.einsum("nij,mj->nmi", rot, model_m) + origin[:, None, :]
+    v[:, :, 2] *= d[:, None]
+    rot = np.matmul(v, u.transpose(0, 2, 1))  # V diag(1, 1, d) Uᵀ
+    origin = cy - np.matmul(rot, cx[:, :, None])[:, :, 0]
+    fitted = np.matmul(model_m[None], rot.transpose(0, 2, 1)) + origin[:, None, :]
     resid = np.linalg.norm(fitted - measured_m, axis=2)
     rot[~ok] = np.nan
     origin[~ok] = np.nan
@@ -66,17 +65,29 @@ def fit_poses(model_m: np.ndarray, measured_m: np.ndarray) -> tuple[np.ndarray, 
     return rot, origin, ok, resid
 
 
+def poseable(model_m: np.ndarray, present: np.ndarray) -> np.ndarray:
+    """Frames (n,) whose present markers (n, markers) can fix a pose: 3 or more, not on one line."""
+    codes = present.astype(np.int64) @ (1 << np.arange(present.shape[1], dtype=np.int64))
+    ok = np.zeros(present.shape[0], dtype=bool)
+    for code in np.unique(codes):
+        pattern = (int(code) >> np.arange(present.shape[1])) & 1 == 1
+        pts = model_m[pattern]
+        if pts.shape[0] >= 3:
+            lam = np.linalg.eigvalsh(np.cov(pts.T, bias=True))
+            ok[codes == code] = np.sqrt(max(lam[1], 0.0)) >= MIN_SPREAD_M
+    return ok
+
+
 def hinge_twist_rad(rot_foot: np.ndarray, rot_shank: np.ndarray, axis_in_foot: np.ndarray) -> np.ndarray:
-    """Twist angle (rad) of the shank relative to the foot about the hinge axis (swing–twist)."""
-    rel = np.einsum("nji,njk->nik", rot_foot, rot_shank)  # shank in foot coordinates
-    ok = np.all(np.isfinite(rel), axis=(1, 2))
-    out = np.full(rel.shape[0], np.nan)
-    if ok.any():
-        q = Rotation.from_matrix(rel[ok]).as_quat()  # x, y, z, w
-        proj = q[:, :3] @ axis_in_foot
-        out[ok] = 2.0 * np.arctan2(proj, q[:, 3])
-        out[ok] = (out[ok] + np.pi) % (2 * np.pi) - np.pi
-    return out
+    """Twist angle (rad) of the shank relative to the foot about the hinge axis (swing–twist).
+
+    With the relative rotation R as a unit quaternion (w, q), the twist about the unit axis a is
+    2·atan2(q·a, w); multiplying both by 4w gives 2·atan2(a·v, 1 + tr R), v = (R₂₁ − R₁₂,
+    R₀₂ − R₂₀, R₁₀ − R₀₁), valid for relative rotations below 180°.
+    """
+    rel = np.matmul(rot_foot.transpose(0, 2, 1), rot_shank)  # shank in foot coordinates
+    v = np.stack([rel[:, 2, 1] - rel[:, 1, 2], rel[:, 0, 2] - rel[:, 2, 0], rel[:, 1, 0] - rel[:, 0, 1]], axis=1)
+    return 2.0 * np.arctan2(v @ axis_in_foot, 1.0 + np.trace(rel, axis1=1, axis2=2))
 
 
 def _bridge_gaps(x: np.ndarray, valid: np.ndarray, max_gap: int) -> np.ndarray:
@@ -109,12 +120,12 @@ class SegmentMotion:
 
     def point_m(self, local_m: np.ndarray) -> np.ndarray:
         """Lab position (n, 3) of a point fixed in the segment."""
-        return np.einsum("nij,j->ni", self.rotation, np.asarray(local_m, dtype=float)) + self.origin_m
+        return self.rotation @ np.asarray(local_m, dtype=float) + self.origin_m
 
 
 @dataclass
 class MarkerQuality:
-    """Raw-fit marker residuals (m) against the dissertation's acceptance (max < 2 cm, RMS < 1 cm)."""
+    """Marker residuals (m) from the fitted segments against the dissertation's acceptance (max < 2 cm, RMS < 1 cm)."""
 
     rms_m: float
     max_m: float
@@ -157,8 +168,8 @@ def _segment_columns(trial: MotionTrial, seg: Segment, flags: list[str]) -> tupl
 
 def _motion(seg: Segment, rot: np.ndarray, origin: np.ndarray, dt: float) -> SegmentMotion:
     rdot = derivative(rot, dt)
-    omega = _vee(np.einsum("nij,nkj->nik", rdot, rot))
-    com = np.einsum("nij,j->ni", rot, seg.com_m) + origin
+    omega = _vee(np.matmul(rdot, rot.transpose(0, 2, 1)))
+    com = rot @ seg.com_m + origin
     return SegmentMotion(seg.name, rot, origin, omega, derivative(omega, dt), com,
                          derivative(derivative(com, dt), dt))
 
@@ -185,17 +196,25 @@ def aads_kinematics(trial: MotionTrial, model: JigModel) -> AadsKinematics:
     residuals, labels = [], []
     for seg in (model.foot, model.shank):
         x_model, meas = _segment_columns(trial, seg, flags)
-        rot, origin, ok, resid = fit_poses(x_model, meas)
-        residuals.append(np.where(np.isfinite(meas[..., 0]), resid, np.nan))
-        labels += [k for k in seg.marker_labels if k in trial.marker_labels]
-        filled = np.where(np.isfinite(meas), meas, np.einsum("nij,mj->nmi", rot, x_model) + origin[:, None, :])
+        present = np.all(np.isfinite(meas), axis=2)
+        ok = poseable(x_model, present)
+        filled = meas.copy()
+        partial = np.flatnonzero(ok & ~present.all(axis=1))
+        if partial.size:  # fill a missing marker from its segment's pose on the markers present
+            rot, origin, _, _ = fit_poses(x_model, meas[partial])
+            fill = np.matmul(x_model[None], rot.transpose(0, 2, 1)) + origin[:, None, :]
+            filled[partial] = np.where(present[partial, :, None], meas[partial], fill)
         filled[~ok] = np.nan
         bridged = _bridge_gaps(filled, ok, max_gap)
         has = np.all(np.isfinite(bridged), axis=(1, 2))
         raw_ok_all &= ok
         bridged_all &= has
         smooth = lowpass(bridged, rate, model.filter_cutoff_hz)
-        rot_f, origin_f, ok_f, _ = fit_poses(x_model, smooth)
+        rot_f, origin_f, _, _ = fit_poses(x_model, smooth)
+        # residual of each measured marker from the fitted (filtered) rigid segment
+        fitted = np.matmul(x_model[None], rot_f.transpose(0, 2, 1)) + origin_f[:, None, :]
+        residuals.append(np.where(present, np.linalg.norm(fitted - meas, axis=2), np.nan))
+        labels += [k for k in seg.marker_labels if k in trial.marker_labels]
         filtered[seg.name] = (rot_f, origin_f)
     if not bridged_all.any():
         raise InputError(f"{trial.source or 'trial'}: no frame has enough markers to pose both segments")

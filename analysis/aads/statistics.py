@@ -101,10 +101,11 @@ def anova_table(records: Sequence[StiffnessRecord]) -> list[AnovaRow]:
     for name in FACTORS:
         if frame[name].nunique() < 2:
             raise FitError(f"the ANOVA needs at least two {name}s; the trials have {sorted(frame[name].unique())}")
+    levels = {name: frame[name].nunique() for name in FACTORS}
+    terms = 1 + sum(v - 1 for v in levels.values()) + (levels["spring"] - 1) * (levels["operator"] - 1)
+    if len(frame) - terms < 1:
+        raise FitError(f"{len(frame)} trials leave no residual degrees of freedom for the ANOVA ({terms} terms)")
     fit = ols(FORMULA, data=frame).fit()
-    if fit.df_resid < 1:
-        raise FitError(f"{len(frame)} trials leave no residual degrees of freedom for the ANOVA "
-                       f"({int(fit.df_model)} model terms)")
     table = sm.stats.anova_lm(fit, typ=3)
     rows = [AnovaRow("Model", float(fit.ess), int(fit.df_model), float(fit.ess / fit.df_model), float(fit.fvalue),
                      float(fit.f_pvalue))]

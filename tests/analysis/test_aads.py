@@ -60,7 +60,7 @@ def test_default_model_file_and_overrides(tmp_path: Path) -> None:
 def test_kinematics_recovers_the_shank_angle_and_reports_marker_residuals() -> None:
     trial, truth = synthesize_aads_trial(2, 1, 1, afo=IDEAL, marker_noise_m=0.0, plate_noise_n=0.0)
     kin = aads_kinematics(trial, MODEL)
-    assert kin.valid.all() and kin.quality.max_m < 1e-9 and kin.quality.accepted
+    assert kin.valid.all() and kin.quality.max_m < 2e-4 and kin.quality.accepted  # the 6 Hz filter, no noise
     assert np.max(np.abs(kin.hinge_angle_deg - truth["shank_deg"])) < 0.03  # 6 Hz filter on 0.5 Hz bends
     assert np.max(kin.hinge_gap_m) < 1e-5  # filtering markers one by one bends rigidity by ~1 µm
     noisy, truth = synthesize_aads_trial(2, 1, 1, afo=IDEAL, marker_noise_m=5e-4)
