@@ -65,6 +65,14 @@ def test_c3d_files_from_another_lab(tmp_path: Path, capsys: pytest.CaptureFixtur
     for row, k in zip(report["trials"], truths):
         assert abs(row["stiffness_nm_per_deg"] / k - 1) < 0.015
         assert abs(row["theoretical_stiffness_nm_per_deg"] / k - 1) < 0.01
+    # a lab's own model file changes what is reported
+    (tmp_path / "jig.json").write_text(json.dumps({"stiffness": {"reported_branch": "both", "fit_window_deg": [7, 19]}}))
+    assert main(["analyze", "afo", str(files[0]), "--spring", "1", "--model", str(tmp_path / "jig.json"),
+                 "--out", str(tmp_path / "r3"), "--json"]) == 0
+    row = json.loads(capsys.readouterr().out)["trials"][0]
+    assert row["sop"]["reported_branch"] == "both"
+    assert row["stiffness_nm_per_deg"] == row["sop"]["fits"]["both"]["slope_nm_per_deg"]
+    assert row["sop"]["fits"]["both"]["span_deg"] <= 12.0
     # a C3D without force-plate data: a clear error naming the file, exit status 1
     import ezc3d
     c = ezc3d.c3d()

@@ -28,3 +28,13 @@ def test_demo_records_a_lab_day_into_a_store(tmp_path: Path) -> None:
     assert all(r["status"] == "recorded" for r in report["lab_day"])
     assert main(["sessions", "--store", str(tmp_path / "store"), "--json"]) == 0
     assert (tmp_path / "exports").is_dir() and len(list((tmp_path / "exports").glob("*.c3d"))) == 1
+    afo = report["afo"]
+    table = {r["spring"]: r for r in afo["table_2_1"]}
+    assert sorted(table) == [1, 2, 3] and all(r["trials"] == 20 for r in table.values())
+    # the dissertation's pattern from hinge friction and shell compliance: softest over, stiffest under
+    assert table[1]["percent_difference"] > 0 > table[3]["percent_difference"]
+    anova = {r["source"]: r for r in afo["table_2_2"]}
+    assert (anova["Model"]["df"], anova["Residual"]["df"], anova["Total"]["df"]) == (15, 44, 59)
+    assert anova["Spring"]["p"] < 1e-6
+    assert len(afo["recorded"]) == 3 and all(r["sop_vs_bottom_up_max_nm"] < 1e-9 for r in afo["recorded"])
+    assert (tmp_path / "afo" / "torque_angle.png").exists()
