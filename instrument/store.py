@@ -13,6 +13,7 @@ import json
 import os
 import socket
 import sqlite3
+import threading
 import time
 import uuid
 from collections.abc import Iterator
@@ -161,6 +162,7 @@ class SessionStore:
         self.read_only = read_only
         self._migrations = MIGRATIONS if migrations is None else migrations
         self.recovered: list[RecoveryReport] = []
+        self._write_lock = threading.RLock()
         db = self.root / "store.sqlite"
         if read_only:
             if not db.exists():
@@ -205,7 +207,9 @@ class SessionStore:
         if self.read_only:
             raise StoreReadOnlyError(f"{self.root}: store opened read-only")
         try:
-            with self._db:
+            # one connection serves the acquisition threads of every room: a transaction (and the
+            # ``lastrowid`` it hands back) must not interleave with another thread's
+            with self._write_lock, self._db:
                 yield self._db
         except sqlite3.OperationalError as err:
             if "readonly" in str(err) or "read-only" in str(err):

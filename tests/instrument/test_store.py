@@ -82,3 +82,30 @@ def test_statuses_reasons_and_repeats(tmp_path: Path) -> None:
 def test_subjects_need_no_identifying_fields() -> None:
     names = set(Subject.__dataclass_fields__)
     assert not names & {"name", "first_name", "last_name", "birth_date", "date_of_birth"}
+
+
+def test_trials_begun_from_many_threads_get_their_own_ids_and_files(tmp_path: Path) -> None:
+    """The lab day records rooms in parallel through one store: ids and file rows must not cross."""
+    import threading
+
+    store = SessionStore(tmp_path / "store")
+    store.add_subject(Subject("S01"))
+    session = store.new_session("S01")
+    got: list[tuple[int, Path]] = []
+    lock = threading.Lock()
+
+    def room() -> None:
+        for _ in range(25):
+            out = store.begin_trial(session, "knee", {})
+            with lock:
+                got.append(out)
+
+    threads = [threading.Thread(target=room) for _ in range(6)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    ids = [i for i, _ in got]
+    assert len(set(ids)) == 150
+    for trial_id, path in got:
+        assert Path(store.trial(trial_id).path) == path
