@@ -1,0 +1,180 @@
+"""The baseline models and the library of candidate causes, each a parametric extension of the baseline.
+
+Every model is linear in its coefficients once its few nonlinear parameters are fixed (stop
+angle, burst timing, delay, compliance), so a fit is a least-squares solve per nonlinear
+setting (variable projection): a grid, then a bounded refinement.
+
+Baselines (angles in rad inside):
+- ``afo``: a spring with moment-arm nonlinearity, τ = c₀ + c₁θ + c₂θ²;
+- ``knee``, ``ankle``: the limb's weight from the subject (known, subtracted) plus a smooth
+  elastic moment, c₀ + c₁θ + c₂θ² + c₃θ³ + c₄e^{6(θ−θmax)} + c₅e^{−6(θ−θmin)} (stiffening toward
+  both ends of the range, as passive joint moments do);
+- ``replica``: springs on wrapped paths, τ = c₀ + c₁θ + c₂θ².
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .data import DiagnosisTrial
+
+FRICTION_SPEED_RAD_S = np.deg2rad(1.0)  # tanh width of the Coulomb term
+
+
+@dataclass
+class Prepared:
+    """Signals shared by every model of one trial (SI)."""
+
+    trial: DiagnosisTrial
+    t: np.ndarray
+    theta: np.ndarray
+    omega: np.ndarray
+    target: np.ndarray          # torque minus the known limb gravity
+    torque_smooth: np.ndarray   # for the series-compliance argument
+    lo: float
+    hi: float
+
+    @classmethod
+    def of(cls, trial: DiagnosisTrial) -> "Prepared":
+        from scipy.signal import savgol_filter
+
+        n = max(5, int(round(0.15 * trial.rate_hz)) | 1)
+        n = min(n, trial.time_s.size if trial.time_s.size % 2 else trial.time_s.size - 1)
+        return cls(trial, trial.time_s, trial.angle_rad, trial.velocity_rad_s(),
+                   trial.torque_nm - trial.limb_gravity_nm(), savgol_filter(trial.torque_nm, n, 2),
+                   float(trial.angle_rad.min()), float(trial.angle_rad.max()))
+
+
+def baseline_columns(kind: str, theta: np.ndarray, lo: float, hi: float) -> np.ndarray:
+    """Baseline basis (n, p) at angles ``theta`` (rad)."""
+    if kind in ("knee", "ankle"):
+        return np.column_stack([np.ones_like(theta), theta, theta**2, theta**3,
+                                np.exp(6.0 * (theta - hi)), np.exp(-6.0 * (theta - lo))])
+    return np.column_stack([np.ones_like(theta), theta, theta**2])
+
+
+@dataclass
+class Cause:
+    """A named extension: extra columns and/or a change of the baseline's argument, given nonlinear parameters.
+
+    ``columns(prep, nl)`` returns (baseline basis, extra columns, valid mask). ``grid`` lists the
+    nonlinear parameters' candidate values (one array per parameter); ``bounds`` their ranges.
+    ``report(coef_ext, nl)`` turns the fitted extension into named parameters with units;
+    ``magnitude_key`` names the one the tests compare with the hidden truth.
+    """
+
+    name: str
+    description: str
+    kinds: tuple[str, ...]
+    columns: Callable[[Prepared, tuple[float, ...]], tuple[np.ndarray, np.ndarray, np.ndarray]]
+    report: Callable[[np.ndarray, tuple[float, ...]], dict[str, float]]
+    magnitude_key: str = ""
+    #: candidate nonlinear parameters: a list of per-parameter arrays (all combinations are tried)
+    #: or an array (k, parameters) of explicit combinations
+    grid: Callable[[Prepared], "list[np.ndarray] | np.ndarray"] = field(default=lambda p: [])
+    transient: bool = False  # a local event: held-out blocks cannot predict it
+
+    @property
+    def n_nonlinear(self) -> int:
+        return 0
+
+
+def _plain(prep: Prepared, extra: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    base = baseline_columns(prep.trial.kind, prep.theta, prep.lo, prep.hi)
+    ext = np.zeros((prep.t.size, 0)) if extra is None else extra.reshape(prep.t.size, -1)
+    return base, ext, np.ones(prep.t.size, dtype=bool)
+
+
+def _burst(t: np.ndarray, start: float, duration: float) -> np.ndarray:
+    u = (t - start) / duration
+    return np.where((u >= 0) & (u <= 1), np.sin(np.pi * np.clip(u, 0, 1)), 0.0)
+
+
+def _delayed(prep: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    d = nl[0]
+    th = np.interp(prep.t - d, prep.t, prep.theta)
+    valid = prep.t - d >= prep.t[0]
+    return baseline_columns(prep.trial.kind, th, prep.lo, prep.hi), np.zeros((prep.t.size, 0)), valid
+
+
+def _compliant(prep: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    th = prep.theta - nl[0] * prep.torque_smooth
+    return baseline_columns(prep.trial.kind, th, prep.lo, prep.hi), np.zeros((prep.t.size, 0)), np.ones(prep.t.size, bool)
+
+
+def _stop_grid(prep: Prepared) -> list[np.ndarray]:
+    return [np.quantile(prep.theta, np.linspace(0.5, 0.97, 24))]
+
+
+def _burst_grid(prep: Prepared) -> np.ndarray:
+    """Candidate (start, duration) pairs: for each duration, the starts where a half-sine best matches
+    the baseline's residual (a matched filter), so the grid stays small on long trials."""
+    base = baseline_columns(prep.trial.kind, prep.theta, prep.lo, prep.hi)
+    coef, *_ = np.linalg.lstsq(base, prep.target, rcond=None)
+    resid = prep.target - base @ coef
+    dt = float(np.median(np.diff(prep.t)))
+    pairs = []
+    for dur in (0.2, 0.35, 0.5, 0.7, 1.0):
+        kernel = np.sin(np.pi * np.linspace(0, 1, max(3, int(dur / dt))))
+        score = np.abs(np.correlate(resid, kernel, mode="valid"))
+        for i in np.argsort(score)[::-1][:200:25]:
+            pairs.append((prep.t[0] + i * dt, dur))
+    return np.array(pairs)
+
+
+CAUSES: dict[str, Cause] = {c.name: c for c in [
+    Cause("none", "the baseline explains the data to the noise", ("afo", "knee", "ankle", "replica"),
+          lambda p, nl: _plain(p), lambda c, nl: {}),
+    Cause("coulomb_friction", "constant torque opposing motion (hysteresis of constant width)", ("afo", "knee", "ankle"),
+          lambda p, nl: _plain(p, np.tanh(p.omega / FRICTION_SPEED_RAD_S)),
+          lambda c, nl: {"friction_Nm": float(c[0])}, "friction_Nm"),
+    Cause("viscous_damping", "torque proportional to angular velocity (hysteresis growing with speed)",
+          ("afo", "knee", "ankle"), lambda p, nl: _plain(p, p.omega),
+          lambda c, nl: {"damping_Nm_s_per_rad": float(c[0])}, "damping_Nm_s_per_rad"),
+    Cause("series_compliance", "a compliant element in series (apparent stiffness falling with load)",
+          ("afo", "knee", "ankle"), _compliant,
+          lambda c, nl: {"compliance_deg_per_Nm": float(np.rad2deg(nl[0])),
+                         "series_stiffness_Nm_per_deg": float(1.0 / np.rad2deg(nl[0])) if nl[0] > 0 else float("inf")},
+          "compliance_deg_per_Nm",
+          lambda p: [np.linspace(0.0, np.deg2rad(0.3), 31)]),
+    Cause("hard_stop", "added stiffness past a stop angle", ("afo", "knee", "ankle", "replica"),
+          lambda p, nl: _plain(p, np.maximum(p.theta - nl[0], 0.0)),
+          lambda c, nl: {"stop_angle_deg": float(np.rad2deg(nl[0])), "stop_stiffness_Nm_per_deg": float(np.deg2rad(c[0]))},
+          "stop_stiffness_Nm_per_deg", _stop_grid),
+    Cause("activation_burst", "transient active torque that passive tissue cannot produce", ("knee", "ankle"),
+          lambda p, nl: _plain(p, _burst(p.t, nl[0], nl[1])),
+          lambda c, nl: {"burst_amplitude_Nm": float(c[0]), "burst_start_s": float(nl[0]), "burst_duration_s": float(nl[1])},
+          "burst_amplitude_Nm", _burst_grid, transient=True),
+    Cause("gravity_error", "a segment mass or centre-of-mass error (torque error sinusoidal in angle)",
+          ("knee", "ankle"), lambda p, nl: _plain(p, p.trial.gravity_shape()),
+          lambda c, nl: {"gravity_moment_error_Nm": float(c[0])}, "gravity_moment_error_Nm"),
+    Cause("time_delay", "the torque channel lagging the angle channel", ("afo", "knee", "ankle"), _delayed,
+          lambda c, nl: {"delay_s": float(nl[0])}, "delay_s", lambda p: [np.linspace(0.0, 0.25, 26)]),
+    Cause("sensor_drift", "torque offset drifting with time", ("afo", "knee", "ankle", "replica"),
+          lambda p, nl: _plain(p, p.t - p.t.mean()), lambda c, nl: {"drift_Nm_per_s": float(c[0])}, "drift_Nm_per_s"),
+]}
+
+#: pairs a trial may not tell apart, and the protocol change that would
+SEPARATE_BY: dict[frozenset[str], str] = {
+    frozenset({"coulomb_friction", "viscous_damping"}): "a second bending speed (friction keeps its width, damping grows with speed)",
+    frozenset({"viscous_damping", "time_delay"}): "a second speed over a range where the stiffness changes, or a step to time the channels",
+    frozenset({"coulomb_friction", "time_delay"}): "a second speed (a delay's hysteresis grows with speed, friction's does not)",
+    frozenset({"series_compliance", "hard_stop"}): "the spring's own torque from the hook markers (theory) or a bend that stays below the stop",
+    frozenset({"gravity_error", "series_compliance"}): "a trial at a second fixed hip or knee angle (gravity's phase moves, elasticity's does not)",
+    frozenset({"sensor_drift", "activation_burst"}): "a repeat of the trial (a burst is not repeated, a drift is)",
+}
+
+#: what a trial needs before a cause that the baseline absorbs can be seen
+UNTESTABLE_HINT: dict[str, str] = {
+    "series_compliance": "the spring's own torque–angle curve (for the AFO, the theory from the hook markers) or an "
+                         "independent angle at the spring; a free baseline absorbs a linear series compliance",
+    "gravity_error": "a second trial at another fixed hip (knee) or knee (ankle) angle, or the musculoskeletal "
+                     "baseline; in one configuration the limb's weight is just another smooth function of angle",
+    "sensor_drift": "angles revisited later in the trial (a return movement or a repeat)",
+    "hard_stop": "a movement that goes past the stop",
+    "coulomb_friction": "a return movement", "viscous_damping": "a return movement or a second speed",
+    "time_delay": "a return movement or a second speed", "activation_burst": "a longer trial",
+}

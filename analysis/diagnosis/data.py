@@ -1,0 +1,89 @@
+"""A trial as the diagnosis sees it: time, the moving joint's angle and the specimen's torque (SI inside).
+
+Sign convention (the trial CSV's): angle positive in dorsiflexion (AFO, ankle) or knee flexion;
+torque is what the specimen exerts against the bending, so a linear spring reads torque = k·angle.
+For knee and ankle trials the torque includes the weight of the limb segments distal to the
+joint; the limb's gravity is modelled from the subject (Winter's segment fractions), as in the
+simulated subject.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from scipy.signal import savgol_filter
+
+from ..errors import InputError
+from ..trial_csv import KINDS, TrialTable
+
+G_M_S2 = 9.81
+
+
+@dataclass
+class DiagnosisTrial:
+    """One trial: ``time_s`` (s), ``angle_rad``, ``torque_nm`` and what is known about the set-up."""
+
+    kind: str
+    time_s: np.ndarray
+    angle_rad: np.ndarray
+    torque_nm: np.ndarray
+    fixed_deg: dict[str, float] = field(default_factory=dict)  # hip_flexion_deg, knee_flexion_deg, ...
+    subject: dict[str, Any] = field(default_factory=dict)      # mass_kg, shank_length_m, foot_length_m, ...
+    source: str = ""
+
+    def __post_init__(self) -> None:
+        if self.kind not in KINDS:
+            raise InputError(f"{self.source or 'trial'}: kind must be one of {KINDS}, got {self.kind!r}")
+        t, a, q = (np.asarray(x, dtype=float) for x in (self.time_s, self.angle_rad, self.torque_nm))
+        ok = np.isfinite(t) & np.isfinite(a) & np.isfinite(q)
+        if ok.sum() < 50:
+            raise InputError(f"{self.source or 'trial'}: {int(ok.sum())} finite samples; the diagnosis needs 50")
+        order = np.argsort(t[ok], kind="stable")
+        self.time_s, self.angle_rad, self.torque_nm = t[ok][order], a[ok][order], q[ok][order]
+        if np.any(np.diff(self.time_s) <= 0):
+            raise InputError(f"{self.source or 'trial'}: repeated time stamps")
+
+    @property
+    def rate_hz(self) -> float:
+        return 1.0 / float(np.median(np.diff(self.time_s)))
+
+    def velocity_rad_s(self, window_s: float = 0.15) -> np.ndarray:
+        """Angular velocity by a Savitzky–Golay derivative (cubic, ``window_s`` wide)."""
+        dt = 1.0 / self.rate_hz
+        n = max(5, int(round(window_s / dt)) | 1)
+        n = min(n, self.time_s.size if self.time_s.size % 2 else self.time_s.size - 1)
+        return savgol_filter(self.angle_rad, n, 3, deriv=1, delta=dt)
+
+    def limb_gravity_nm(self) -> np.ndarray:
+        """The limb's weight as torque against the bending (N·m); zero for AFO and replica trials."""
+        m = float(self.subject.get("mass_kg") or 0.0)
+        if self.kind == "knee" and m > 0:
+            shank = float(self.subject.get("shank_length_m") or 0.42)
+            moment = (0.0465 * m * 0.433 * shank + 0.0145 * m * shank) * G_M_S2
+            return -moment * np.cos(self.angle_rad)  # gravity pulls toward flexion: the limb helps the bend
+        if self.kind == "ankle" and m > 0:
+            foot = float(self.subject.get("foot_length_m") or 0.26)
+            knee = np.deg2rad(float(self.fixed_deg.get("knee_flexion_deg") or 0.0))
+            return 0.0145 * m * 0.5 * foot * G_M_S2 * np.cos(self.angle_rad + np.pi / 2 - knee)
+        return np.zeros_like(self.angle_rad)
+
+    def gravity_shape(self) -> np.ndarray:
+        """Unit shape of a gravity error (the limb's torque per N·m of weight moment)."""
+        if self.kind == "ankle":
+            knee = np.deg2rad(float(self.fixed_deg.get("knee_flexion_deg") or 0.0))
+            return np.cos(self.angle_rad + np.pi / 2 - knee)
+        return -np.cos(self.angle_rad)
+
+
+def from_table(table: TrialTable, kind: str | None = None) -> DiagnosisTrial:
+    """A trial CSV (with its sidecar) as a diagnosis trial; ``kind`` overrides the sidecar's."""
+    side = table.sidecar
+    k = kind or side.get("kind")
+    if k is None:
+        raise InputError("the trial's kind is unknown: give --kind or a sidecar with 'kind'")
+    fixed = {n: float(side[n]) for n in ("hip_flexion_deg", "knee_flexion_deg", "ankle_dorsiflexion_deg")
+             if side.get(n) is not None}
+    return DiagnosisTrial(k, table.time_s, np.deg2rad(table.angle_deg), table.torque_nm, fixed,
+                          dict(side.get("subject") or {}), str(side.get("source", "")))

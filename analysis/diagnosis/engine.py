@@ -1,0 +1,301 @@
+"""Diagnose a trial: fit the baseline, try every candidate cause, choose by held-out error and an honest criterion.
+
+Selection, in order:
+
+1. every candidate is fitted jointly with the baseline (least squares; nonlinear parameters by a
+   grid and a bounded refinement);
+2. held-out error: the trial is cut into ``folds`` contiguous time blocks; each block is
+   predicted by the model fitted on the others (neighbouring samples are correlated, so random
+   splits would flatter every model). A transient cause (a burst) cannot be predicted from other
+   blocks, so for it only the criterion below decides;
+3. criterion: BIC with the effective sample size n_eff = n(1 − ρ)/(1 + ρ), ρ the lag-1
+   autocorrelation of the best model's residual (AR(1) variance inflation);
+4. a cause is accepted when it lowers the criterion by more than ``min_delta_bic`` against the
+   baseline and (unless transient) lowers the held-out RMSE to below ``max_heldout_ratio`` of the
+   baseline's; the accepted cause with the lowest criterion wins, otherwise ``none``;
+5. a cause whose effect the baseline can mimic (R² > ``max_absorbed_r2`` of its effect direction
+   on the baseline basis) is not testable in this trial: it is never named, and the report says
+   what the trial would need;
+6. accepted causes whose fitted effects are nearly the same curve (correlation > 0.9) within
+   ``ambiguity_bic`` of the winner make the result ambiguous: the report names them and the
+   protocol change that would separate them, rather than guessing.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from scipy.optimize import minimize, minimize_scalar
+
+from ..errors import InputError
+from .causes import CAUSES, SEPARATE_BY, UNTESTABLE_HINT, Cause, Prepared, baseline_columns
+from .data import DiagnosisTrial
+
+
+@dataclass
+class CauseFit:
+    """One model fitted to (part of) a trial."""
+
+    cause: str
+    nonlinear: tuple[float, ...]
+    coef: np.ndarray
+    n_base: int
+    prediction: np.ndarray     # torque prediction (N·m), with the known gravity added back; NaN where invalid
+    rss: float
+    n: int
+    params: dict[str, float]
+
+    @property
+    def n_params(self) -> int:
+        return self.coef.size + len(self.nonlinear)
+
+
+def _solve(prep: Prepared, cause: Cause, nl: tuple[float, ...], mask: np.ndarray) -> tuple[float, np.ndarray, np.ndarray, int, np.ndarray]:
+    base, ext, valid = cause.columns(prep, nl)
+    x = np.hstack([base, ext])
+    use = mask & valid
+    scale = np.maximum(np.abs(x[use]).max(axis=0), 1e-12)
+    coef, *_ = np.linalg.lstsq(x[use] / scale, prep.target[use], rcond=None)
+    coef = coef / scale
+    pred = x @ coef
+    rss = float(np.sum((prep.target[use] - pred[use]) ** 2))
+    return rss, coef, np.where(valid, pred, np.nan), base.shape[1], use
+
+
+def fit_cause(prep: Prepared, cause: Cause, mask: np.ndarray | None = None, refine: bool = True) -> CauseFit:
+    """Least-squares fit of baseline + ``cause`` on the samples in ``mask`` (default all)."""
+    mask = np.ones(prep.t.size, dtype=bool) if mask is None else mask
+    grids = cause.grid(prep)
+    combos = [tuple(row) for row in grids] if isinstance(grids, np.ndarray) else \
+        (list(itertools.product(*grids)) if grids else [()])
+    best: tuple[float, tuple[float, ...]] = (math.inf, ())
+    for nl in combos:
+        rss = _solve(prep, cause, tuple(float(v) for v in nl), mask)[0]
+        # compare as mean square: a delay drops the first samples
+        n_used = int(np.sum(mask & cause.columns(prep, tuple(float(v) for v in nl))[2])) if cause.name == "time_delay" else 1
+        score = rss / max(n_used, 1)
+        if score < best[0]:
+            best = (score, tuple(float(v) for v in nl))
+    nl = best[1]
+    if refine and not isinstance(grids, np.ndarray) and len(grids) == 1:
+        g = grids[0]
+        i = int(np.argmin(np.abs(g - nl[0])))
+        lo, hi = g[max(i - 1, 0)], g[min(i + 1, g.size - 1)]
+        if hi > lo:
+            res = minimize_scalar(lambda v: _solve(prep, cause, (v,), mask)[0], bounds=(lo, hi), method="bounded",
+                                  options={"xatol": 1e-6 * max(abs(hi), 1e-3)})
+            if res.fun <= _solve(prep, cause, nl, mask)[0]:
+                nl = (float(res.x),)
+    elif refine and len(nl) == 2:
+        res = minimize(lambda v: _solve(prep, cause, (v[0], max(v[1], 0.05)), mask)[0], np.array(nl),
+                       method="Nelder-Mead", options={"xatol": 1e-3, "fatol": 1e-9, "maxiter": 200})
+        cand = (float(res.x[0]), float(max(res.x[1], 0.05)))
+        if res.fun <= _solve(prep, cause, nl, mask)[0]:
+            nl = cand
+    rss, coef, pred, n_base, use = _solve(prep, cause, nl, mask)
+    gravity = prep.trial.limb_gravity_nm()
+    return CauseFit(cause.name, nl, coef, n_base, pred + gravity, rss, int(use.sum()), cause.report(coef[n_base:], nl))
+
+
+def absorbed_by_baseline(prep: Prepared, cause: Cause, fit: CauseFit) -> float:
+    """R² of the cause's effect direction regressed on the baseline basis (1: the baseline can mimic it exactly).
+
+    The direction is the extension's columns, or for a cause that changes the baseline's
+    argument (delay, compliance), the derivative of the prediction with respect to its parameter.
+    """
+    base, ext, valid = cause.columns(prep, fit.nonlinear)
+    if ext.shape[1]:
+        j = ext[:, 0]
+    else:
+        step = {"time_delay": 0.02, "series_compliance": np.deg2rad(0.02)}.get(cause.name, 1e-3)
+        nl = tuple(v + step for v in fit.nonlinear)
+        b2, _, v2 = cause.columns(prep, nl)
+        valid = valid & v2
+        j = (b2 - base) @ fit.coef[: base.shape[1]] / step
+    b0 = baseline_columns(prep.trial.kind, prep.theta, prep.lo, prep.hi)[valid]
+    j = j[valid]
+    if np.std(j) == 0:
+        return 1.0
+    coef, *_ = np.linalg.lstsq(b0, j, rcond=None)
+    r = j - b0 @ coef
+    return float(1.0 - np.sum(r**2) / np.sum((j - j.mean()) ** 2))
+
+
+def _blocks(n: int, folds: int) -> list[np.ndarray]:
+    edges = np.linspace(0, n, folds + 1).astype(int)
+    return [np.arange(edges[i], edges[i + 1]) for i in range(folds)]
+
+
+def heldout_rmse(prep: Prepared, cause: Cause, folds: int = 5) -> float:
+    """RMSE (N·m) of each contiguous time block predicted by the model fitted on the other blocks."""
+    err = []
+    for block in _blocks(prep.t.size, folds):
+        train = np.ones(prep.t.size, dtype=bool)
+        train[block] = False
+        fit = fit_cause(prep, cause, train, refine=False)
+        pred = fit.prediction[block]
+        ok = np.isfinite(pred)
+        err.append((prep.trial.torque_nm[block][ok] - pred[ok]) ** 2)
+    e = np.concatenate(err)
+    return float(np.sqrt(e.mean())) if e.size else float("nan")
+
+
+def effective_n(residual: np.ndarray) -> float:
+    """n (1 − ρ)/(1 + ρ) with ρ the lag-1 autocorrelation (clipped to [0, 0.999])."""
+    r = residual[np.isfinite(residual)]
+    r = r - r.mean()
+    rho = float(np.dot(r[1:], r[:-1]) / np.dot(r, r)) if r.size > 2 and np.dot(r, r) > 0 else 0.0
+    rho = min(max(rho, 0.0), 0.999)
+    return max(10.0, r.size * (1 - rho) / (1 + rho))
+
+
+@dataclass
+class Candidate:
+    """A cause as tried: its fit on the whole trial, held-out RMSE and criterion."""
+
+    cause: str
+    params: dict[str, float]
+    rmse_nm: float
+    heldout_rmse_nm: float
+    bic: float
+    delta_bic: float
+    heldout_ratio: float
+    accepted: bool
+    note: str = ""
+
+    def as_dict(self) -> dict[str, Any]:
+        def clean(v: Any) -> Any:
+            return None if isinstance(v, float) and not math.isfinite(v) else v
+        return {k: (clean(v) if not isinstance(v, dict) else {a: clean(b) for a, b in v.items()})
+                for k, v in self.__dict__.items()}
+
+
+@dataclass
+class Diagnosis:
+    """The finding for one trial."""
+
+    kind: str
+    cause: str
+    parameters: dict[str, float]
+    baseline_rmse_nm: float
+    extended_rmse_nm: float
+    baseline_heldout_rmse_nm: float
+    extended_heldout_rmse_nm: float
+    heldout_rmse_ratio: float
+    delta_bic: float
+    effective_n: float
+    candidates: list[Candidate]
+    ambiguous_with: list[str] = field(default_factory=list)
+    separate_by: list[str] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
+    fits: dict[str, CauseFit] = field(default_factory=dict, repr=False)
+    prepared: Prepared | None = field(default=None, repr=False)
+
+    def as_dict(self) -> dict[str, Any]:
+        def clean(v: float) -> float | None:
+            return v if math.isfinite(v) else None
+        return {"kind": self.kind, "cause": self.cause, "parameters": self.parameters,
+                "baseline_rmse_Nm": clean(self.baseline_rmse_nm), "extended_rmse_Nm": clean(self.extended_rmse_nm),
+                "baseline_heldout_rmse_Nm": clean(self.baseline_heldout_rmse_nm),
+                "extended_heldout_rmse_Nm": clean(self.extended_heldout_rmse_nm),
+                "heldout_rmse_ratio": clean(self.heldout_rmse_ratio), "delta_bic": clean(self.delta_bic),
+                "effective_n": self.effective_n, "ambiguous_with": self.ambiguous_with,
+                "separate_by": self.separate_by, "notes": self.notes,
+                "candidates": [c.as_dict() for c in self.candidates]}
+
+    def text(self) -> str:
+        lines = [f"cause: {self.cause}" + (f" (cannot be told from {', '.join(self.ambiguous_with)})" if self.ambiguous_with else "")]
+        for k, v in self.parameters.items():
+            lines.append(f"  {k} = {v:.4g}")
+        lines.append(f"  RMSE baseline {self.baseline_rmse_nm:.3f} N·m → extended {self.extended_rmse_nm:.3f} N·m; "
+                     f"held-out {self.baseline_heldout_rmse_nm:.3f} → {self.extended_heldout_rmse_nm:.3f} "
+                     f"(ratio {self.heldout_rmse_ratio:.2f}); ΔBIC {self.delta_bic:.1f} at n_eff {self.effective_n:.0f}")
+        for s in self.separate_by:
+            lines.append(f"  to separate them: {s}")
+        for n in self.notes:
+            lines.append(f"  note: {n}")
+        lines.append(f"  {'candidate':<20}{'RMSE':>8}{'held-out':>10}{'ratio':>7}{'ΔBIC':>10}  accepted")
+        for c in sorted(self.candidates, key=lambda c: c.bic):
+            lines.append(f"  {c.cause:<20}{c.rmse_nm:>8.3f}{c.heldout_rmse_nm:>10.3f}{c.heldout_ratio:>7.2f}"
+                         f"{c.delta_bic:>10.1f}  {'yes' if c.accepted else ''} {c.note}")
+        return "\n".join(lines)
+
+
+def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: int = 5, min_delta_bic: float = 10.0,
+             max_heldout_ratio: float = 0.95, ambiguity_bic: float = 10.0, max_absorbed_r2: float = 0.995) -> Diagnosis:
+    """Name what the baseline model of ``trial`` gets wrong (see the module docstring).
+
+    :raises InputError: the trial has no usable samples.
+    """
+    prep = Prepared.of(trial)
+    names = [c for c in (causes or list(CAUSES)) if trial.kind in CAUSES[c].kinds]
+    if "none" not in names:
+        names.insert(0, "none")
+    notes: list[str] = []
+    moving = np.abs(prep.omega) > np.deg2rad(0.5)
+    both_ways = (prep.omega[moving] > 0).mean() if moving.any() else 0.0
+    if moving.sum() < 0.05 * prep.t.size:
+        notes.append("the angle barely moves: velocity-dependent causes are not testable; record a movement")
+        names = [n for n in names if n not in ("coulomb_friction", "viscous_damping", "time_delay")]
+    elif not 0.05 < both_ways < 0.95:
+        notes.append("the joint moves one way only: friction, damping and a delay are offsets here and cannot be "
+                     "seen; record a return movement")
+        names = [n for n in names if n not in ("coulomb_friction", "viscous_damping", "time_delay")]
+    fits = {n: fit_cause(prep, CAUSES[n]) for n in names}
+    best_rss = min(fits.values(), key=lambda f: f.rss / max(f.n, 1))
+    n_eff = effective_n(trial.torque_nm - best_rss.prediction)
+    def bic(f: CauseFit) -> float:
+        return n_eff * math.log(max(f.rss / f.n, 1e-300)) + f.n_params * math.log(n_eff)
+    base = fits["none"]
+    base_ho = heldout_rmse(prep, CAUSES["none"], folds)
+    cands = []
+    absorbed = {n: absorbed_by_baseline(prep, CAUSES[n], f) for n, f in fits.items() if n != "none"}
+    for n, r2 in absorbed.items():
+        if r2 > max_absorbed_r2:
+            notes.append(f"{n} cannot be told from the baseline in this trial (its effect is {100 * r2:.2f} % the "
+                         f"baseline's own shape); it needs {UNTESTABLE_HINT.get(n, 'another protocol')}")
+    for n, f in fits.items():
+        ho = base_ho if n == "none" else (float("nan") if CAUSES[n].transient else heldout_rmse(prep, CAUSES[n], folds))
+        ratio = ho / base_ho if math.isfinite(ho) and base_ho > 0 else float("nan")
+        d = bic(f) - bic(base)
+        ok = (n != "none" and d < -min_delta_bic and (CAUSES[n].transient or ratio < max_heldout_ratio)
+              and absorbed.get(n, 0.0) <= max_absorbed_r2)
+        cands.append(Candidate(n, f.params, math.sqrt(f.rss / f.n), ho, bic(f), d, ratio, ok,
+                               "transient: judged by the criterion only" if CAUSES[n].transient else ""))
+    accepted = [c for c in cands if c.accepted]
+    if not accepted:
+        winner = next(c for c in cands if c.cause == "none")
+    else:
+        winner = min(accepted, key=lambda c: c.bic)
+    ambiguous, separate = [], []
+    if winner.cause != "none":
+        effect_w = fits[winner.cause].prediction - base.prediction
+        for c in accepted:
+            if c.cause == winner.cause or c.bic - winner.bic > ambiguity_bic:
+                continue
+            effect_c = fits[c.cause].prediction - base.prediction
+            ok = np.isfinite(effect_w) & np.isfinite(effect_c)
+            if ok.sum() > 10 and np.std(effect_w[ok]) > 0 and np.std(effect_c[ok]) > 0:
+                if abs(np.corrcoef(effect_w[ok], effect_c[ok])[0, 1]) > 0.9:
+                    ambiguous.append(c.cause)
+                    hint = SEPARATE_BY.get(frozenset({winner.cause, c.cause}))
+                    if hint:
+                        separate.append(hint)
+    f = fits[winner.cause]
+    return Diagnosis(trial.kind, winner.cause, f.params, math.sqrt(base.rss / base.n), math.sqrt(f.rss / f.n), base_ho,
+                     winner.heldout_rmse_nm if math.isfinite(winner.heldout_rmse_nm) else float("nan"),
+                     winner.heldout_ratio if winner.cause != "none" else 1.0, winner.delta_bic, n_eff, cands,
+                     ambiguous, separate, notes, fits, prep)
+
+
+def magnitude(d: Diagnosis) -> float:
+    """The fitted size of the named cause (the parameter the tests compare), NaN for ``none``."""
+    key = CAUSES[d.cause].magnitude_key
+    return float(d.parameters.get(key, float("nan"))) if key else float("nan")
+
+
+__all__ = ["diagnose", "Diagnosis", "Candidate", "CauseFit", "fit_cause", "magnitude", "InputError"]
