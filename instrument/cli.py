@@ -56,7 +56,38 @@ def build_parser() -> argparse.ArgumentParser:
     afo.add_argument("--spring-n-per-m", type=float, default=None, help="C3D input: spring stiffness (N/m)")
     afo.add_argument("--out", type=Path, default=Path("afo_report"), help="folder for the JSON report and PNG plots")
     afo.add_argument("--json", action="store_true", help="print the JSON report instead of the tables")
+
+    dia = sub.add_parser("diagnose", help="what the model of a trial gets wrong, and why")
+    dia.add_argument("file", type=Path, help="a trial CSV (with its .json sidecar) or an instrument trial file (.h5)")
+    dia.add_argument("--kind", choices=("afo", "knee", "ankle", "replica"), default=None,
+                     help="trial kind (default: the sidecar's or the recording's)")
+    dia.add_argument("--json", action="store_true", help="print the JSON result")
+    dia.add_argument("--plot", type=Path, default=None, help="write the diagnosis plot (PNG) here")
     return parser
+
+
+def cmd_diagnose(args: argparse.Namespace) -> int:
+    from analysis.diagnosis import diagnose, from_table, write_diagnosis_plot
+    from analysis.trial_csv import read_trial_csv
+
+    from .export import trial_table
+    from .recording import read_trial
+
+    if args.file.suffix.lower() in (".h5", ".hdf5"):
+        table = trial_table(read_trial(args.file))
+    else:
+        table = read_trial_csv(args.file)
+    result = diagnose(from_table(table, args.kind))
+    if args.plot:
+        write_diagnosis_plot(result, args.plot)
+    if args.json:
+        print(json.dumps(result.as_dict(), indent=2))
+    else:
+        print(f"{args.file}:")
+        print(result.text())
+        if args.plot:
+            print(f"wrote {args.plot}")
+    return 0
 
 
 def cmd_analyze(args: argparse.Namespace) -> int:
@@ -165,7 +196,7 @@ def main(argv: list[str] | None = None) -> int:
 
             return demo_main(args.seconds, args.out, faults=not args.no_faults)
         return {"record": cmd_record, "sessions": cmd_sessions, "export": cmd_export,
-                "analyze": cmd_analyze}[args.command](args)
+                "analyze": cmd_analyze, "diagnose": cmd_diagnose}[args.command](args)
     except (InstrumentError, OSError) as err:
         print(f"error: {err}", file=sys.stderr)
         return 1

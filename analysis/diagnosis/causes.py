@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..errors import InputError
 from .data import DiagnosisTrial
 
 FRICTION_SPEED_RAD_S = np.deg2rad(1.0)  # tanh width of the Coulomb term
@@ -36,16 +37,29 @@ class Prepared:
     torque_smooth: np.ndarray   # for the series-compliance argument
     lo: float
     hi: float
+    gravity: np.ndarray         # known limb gravity (N·m), added back to predictions
+    gravity_shape: np.ndarray   # unit shape of a gravity error
+    torque: np.ndarray          # measured torque (N·m)
+    base_cache: np.ndarray | None = None
 
     @classmethod
-    def of(cls, trial: DiagnosisTrial) -> "Prepared":
+    def of(cls, trial: DiagnosisTrial, min_angle_deg: float | None = None) -> "Prepared":
+        """Signals of ``trial``; ``min_angle_deg`` keeps only samples at or above that angle (velocity
+        is taken on the whole trial first, so the cut does not bend it)."""
         from scipy.signal import savgol_filter
 
         n = max(5, int(round(0.15 * trial.rate_hz)) | 1)
         n = min(n, trial.time_s.size if trial.time_s.size % 2 else trial.time_s.size - 1)
-        return cls(trial, trial.time_s, trial.angle_rad, trial.velocity_rad_s(),
-                   trial.torque_nm - trial.limb_gravity_nm(), savgol_filter(trial.torque_nm, n, 2),
-                   float(trial.angle_rad.min()), float(trial.angle_rad.max()))
+        grav = trial.limb_gravity_nm()
+        keep = np.ones(trial.time_s.size, dtype=bool) if min_angle_deg is None else \
+            trial.angle_rad >= np.deg2rad(min_angle_deg)
+        if keep.sum() < 50:
+            raise InputError(f"{trial.source or 'trial'}: {int(keep.sum())} samples at or above {min_angle_deg}°; "
+                             "the diagnosis needs 50")
+        th = trial.angle_rad[keep]
+        return cls(trial, trial.time_s[keep], th, trial.velocity_rad_s()[keep], (trial.torque_nm - grav)[keep],
+                   savgol_filter(trial.torque_nm, n, 2)[keep], float(th.min()), float(th.max()), grav[keep],
+                   trial.gravity_shape()[keep], trial.torque_nm[keep])
 
 
 def baseline_columns(kind: str, theta: np.ndarray, lo: float, hi: float) -> np.ndarray:
@@ -83,7 +97,9 @@ class Cause:
 
 
 def _plain(prep: Prepared, extra: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    base = baseline_columns(prep.trial.kind, prep.theta, prep.lo, prep.hi)
+    if prep.base_cache is None:
+        prep.base_cache = baseline_columns(prep.trial.kind, prep.theta, prep.lo, prep.hi)
+    base = prep.base_cache
     ext = np.zeros((prep.t.size, 0)) if extra is None else extra.reshape(prep.t.size, -1)
     return base, ext, np.ones(prep.t.size, dtype=bool)
 
@@ -149,7 +165,7 @@ CAUSES: dict[str, Cause] = {c.name: c for c in [
           lambda c, nl: {"burst_amplitude_Nm": float(c[0]), "burst_start_s": float(nl[0]), "burst_duration_s": float(nl[1])},
           "burst_amplitude_Nm", _burst_grid, transient=True),
     Cause("gravity_error", "a segment mass or centre-of-mass error (torque error sinusoidal in angle)",
-          ("knee", "ankle"), lambda p, nl: _plain(p, p.trial.gravity_shape()),
+          ("knee", "ankle"), lambda p, nl: _plain(p, p.gravity_shape),
           lambda c, nl: {"gravity_moment_error_Nm": float(c[0])}, "gravity_moment_error_Nm"),
     Cause("time_delay", "the torque channel lagging the angle channel", ("afo", "knee", "ankle"), _delayed,
           lambda c, nl: {"delay_s": float(nl[0])}, "delay_s", lambda p: [np.linspace(0.0, 0.25, 26)]),
