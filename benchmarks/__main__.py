@@ -8,7 +8,8 @@ import json
 import sys
 from pathlib import Path
 
-BENCHMARKS = {"drivers": "benchmarks.drivers", "recording": "benchmarks.recording", "aads": "benchmarks.aads"}
+BENCHMARKS = {"drivers": "benchmarks.drivers", "recording": "benchmarks.recording", "aads": "benchmarks.aads",
+              "diagnosis": "benchmarks.diagnosis"}
 
 
 def main(argv: list[str] | None = None) -> int:

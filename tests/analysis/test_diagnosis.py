@@ -95,3 +95,25 @@ def test_instrument_diagnose_reads_the_trial_csv(tmp_path: Path, capsys: pytest.
     (tmp_path / "bad.csv").write_text("time_s,angle_deg\n0,1\n")
     assert main(["diagnose", str(tmp_path / "bad.csv"), "--kind", "afo"]) == 1
     assert "missing column" in capsys.readouterr().err
+
+
+def test_the_seeds_own_case_explains_table_2_1() -> None:
+    """Hinge friction and shell compliance, drawn from a seed, explain the AADS stiffness errors."""
+    from analysis.aads import analyze_trial, load_jig_model
+    from analysis.diagnosis.aads_case import explain_stiffness_error
+    from drivers.simulation.aads_jig import AfoProperties
+    from instrument.simulate import synthesize_aads_trial
+
+    rng = np.random.default_rng(2026)
+    afo = AfoProperties(hinge_friction_nm=float(rng.uniform(0.1, 0.4)), hinge_friction_coeff=float(rng.uniform(0.04, 0.1)),
+                        shell_stiffness_nm_per_deg=float(rng.uniform(8.0, 20.0)))
+    model = load_jig_model()
+    for spring in (1, 3):
+        res = analyze_trial(synthesize_aads_trial(spring, 1, 1, afo=afo)[0], model, factors={"spring": spring})
+        e = explain_stiffness_error(res.angle_deg, res.velocity_deg_s, res.afo_torque_nm, res.theory.torque_nm,
+                                    res.theory.angle_deg)
+        assert abs(e.compliance_deg_per_nm * afo.shell_stiffness_nm_per_deg - 1) < 0.25, e
+        assert abs(e.friction_per_spring_torque / afo.hinge_friction_coeff - 1) < 0.25, e
+        assert abs(e.error_without_both_pct) < 1.0 < abs(e.error_raw_pct) + 1.0
+        assert e.error_without_friction_pct < e.error_raw_pct < e.error_without_compliance_pct  # the two pull apart
+        assert e.rmse_after_nm < 0.5 * e.rmse_before_nm
