@@ -14,6 +14,7 @@ Baselines (angles in rad inside):
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -40,6 +41,7 @@ class Prepared:
     gravity: np.ndarray         # known limb gravity (N·m), added back to predictions
     gravity_shape: np.ndarray   # unit shape of a gravity error
     torque: np.ndarray          # measured torque (N·m)
+    alpha: np.ndarray           # angular acceleration (rad/s²)
     base_cache: np.ndarray | None = None
 
     @classmethod
@@ -59,7 +61,8 @@ class Prepared:
         th = trial.angle_rad[keep]
         return cls(trial, trial.time_s[keep], th, trial.velocity_rad_s()[keep], (trial.torque_nm - grav)[keep],
                    savgol_filter(trial.torque_nm, n, 2)[keep], float(th.min()), float(th.max()), grav[keep],
-                   trial.gravity_shape()[keep], trial.torque_nm[keep])
+                   trial.gravity_shape()[keep], trial.torque_nm[keep],
+                   savgol_filter(trial.angle_rad, n, 3, deriv=2, delta=1.0 / trial.rate_hz)[keep])
 
 
 def baseline_columns(kind: str, theta: np.ndarray, lo: float, hi: float) -> np.ndarray:
@@ -169,6 +172,9 @@ CAUSES: dict[str, Cause] = {c.name: c for c in [
           lambda c, nl: {"gravity_moment_error_Nm": float(c[0])}, "gravity_moment_error_Nm"),
     Cause("time_delay", "the torque channel lagging the angle channel", ("afo", "knee", "ankle"), _delayed,
           lambda c, nl: {"delay_s": float(nl[0])}, "delay_s", lambda p: [np.linspace(0.0, 0.25, 26)]),
+    Cause("inertia", "torque proportional to angular acceleration (the moving mass at speed changes)",
+          ("knee", "ankle"), lambda p, nl: _plain(p, p.alpha), lambda c, nl: {"inertia_kgm2": float(c[0])}, "inertia_kgm2",
+          transient=True),  # accelerations happen at speed changes only: held-out blocks cannot learn it
     Cause("sensor_drift", "torque offset drifting with time", ("afo", "knee", "ankle", "replica"),
           lambda p, nl: _plain(p, p.t - p.t.mean()), lambda c, nl: {"drift_Nm_per_s": float(c[0])}, "drift_Nm_per_s"),
 ]}
@@ -194,3 +200,42 @@ UNTESTABLE_HINT: dict[str, str] = {
     "coulomb_friction": "a return movement", "viscous_damping": "a return movement or a second speed",
     "time_delay": "a return movement or a second speed", "activation_burst": "a longer trial",
 }
+
+
+ARGUMENT_CAUSES = ("time_delay", "series_compliance")  # causes that change the baseline's argument
+
+
+def compound(first: Cause, second: Cause) -> Cause:
+    """Two causes at once (at most one may change the baseline's argument)."""
+    if first.name in ARGUMENT_CAUSES and second.name in ARGUMENT_CAUSES:
+        raise ValueError("two causes that both change the baseline's argument cannot be combined")
+    if second.name in ARGUMENT_CAUSES:
+        first, second = second, first
+    g1, g2 = first.grid, second.grid
+    def grid(p: Prepared) -> "list[np.ndarray] | np.ndarray":
+        a, b = g1(p), g2(p)
+        rows_a = a if isinstance(a, np.ndarray) else (np.array(list(itertools.product(*a))) if a else np.zeros((1, 0)))
+        rows_b = b if isinstance(b, np.ndarray) else (np.array(list(itertools.product(*b))) if b else np.zeros((1, 0)))
+        return np.array([np.concatenate([x, y]) for x in rows_a for y in rows_b])
+
+    def columns(p: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        a, b = tuple(nl[:_nl_count(first)]), tuple(nl[_nl_count(first):])
+        base, e1, v1 = first.columns(p, a)
+        _, e2, v2 = second.columns(p, b)
+        return base, np.hstack([e1, e2]), v1 & v2
+
+    def report(c: np.ndarray, nl: tuple[float, ...]) -> dict[str, float]:
+        # extension coefficients: first's columns, then second's; nonlinear parameters split as in the grid
+        return {**first.report(c[:_ext_count(first)], nl[:_nl_count(first)]),
+                **second.report(c[_ext_count(first):], nl[_nl_count(first):])}
+
+    return Cause(f"{first.name}+{second.name}", f"{first.description}; and {second.description}",
+                 first.kinds, columns, report, "", grid, first.transient or second.transient)
+
+
+def _ext_count(cause: Cause) -> int:
+    return 0 if cause.name in ARGUMENT_CAUSES or cause.name == "none" else 1
+
+
+def _nl_count(cause: Cause) -> int:
+    return {"hard_stop": 1, "activation_burst": 2, "time_delay": 1, "series_compliance": 1}.get(cause.name, 0)

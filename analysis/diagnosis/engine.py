@@ -8,15 +8,17 @@ Selection, in order:
    predicted by the model fitted on the others (neighbouring samples are correlated, so random
    splits would flatter every model). A transient cause (a burst) cannot be predicted from other
    blocks, so for it only the criterion below decides;
-3. criterion: BIC with the effective sample size n_eff = n(1 − ρ)/(1 + ρ), ρ the lag-1
-   autocorrelation of the best model's residual (AR(1) variance inflation);
+3. criterion: BIC with the effective sample size n_eff = n / τ, τ the integrated autocorrelation
+   time of the best model's residual (neighbouring samples are not independent evidence);
 4. a cause is accepted when it lowers the criterion by more than ``min_delta_bic`` against the
    baseline and (unless transient) lowers the held-out RMSE to below ``max_heldout_ratio`` of the
    baseline's; the accepted cause with the lowest criterion wins, otherwise ``none``;
 5. a cause whose effect the baseline can mimic (R² > ``max_absorbed_r2`` of its effect direction
    on the baseline basis) is not testable in this trial: it is never named, and the report says
    what the trial would need;
-6. accepted causes whose fitted effects are nearly the same curve (correlation > 0.9) within
+6. a trial may carry two effects: pairs of the three best-fitting causes are fitted too; a second
+   cause joins the winner when the pair passes the same two tests against the winner alone;
+7. accepted causes whose fitted effects are nearly the same curve (correlation > 0.9) within
    ``ambiguity_bic`` of the winner, or whose RMSE is within ``ambiguity_rmse`` (5 %) of it (a
    difference no real trial's unmodelled detail would leave intact), make the result ambiguous: the report names them and the
    protocol change that would separate them, rather than guessing.
@@ -33,7 +35,7 @@ import numpy as np
 from scipy.optimize import minimize, minimize_scalar
 
 from ..errors import InputError
-from .causes import CAUSES, SEPARATE_BY, UNTESTABLE_HINT, Cause, Prepared, baseline_columns
+from .causes import ARGUMENT_CAUSES, CAUSES, SEPARATE_BY, UNTESTABLE_HINT, Cause, Prepared, baseline_columns, compound
 from .data import DiagnosisTrial
 
 
@@ -153,12 +155,24 @@ def heldout_rmse(prep: Prepared, cause: Cause, folds: int = 5) -> float:
 
 
 def effective_n(residual: np.ndarray) -> float:
-    """n (1 − ρ)/(1 + ρ) with ρ the lag-1 autocorrelation (clipped to [0, 0.999])."""
+    """n / τ, τ = 1 + 2 Σ ρ_k the integrated autocorrelation time of the residual, summed until ρ_k first
+    turns negative (the initial-positive-sequence estimator used for MCMC effective sample sizes).
+
+    It suits both AR(1)-like noise and low-pass-filtered signals (an AR(1) formula would count a
+    6 Hz-filtered torque at 100 Hz as a third of its real information).
+    """
     r = residual[np.isfinite(residual)]
     r = r - r.mean()
-    rho = float(np.dot(r[1:], r[:-1]) / np.dot(r, r)) if r.size > 2 and np.dot(r, r) > 0 else 0.0
-    rho = min(max(rho, 0.0), 0.999)
-    return max(10.0, r.size * (1 - rho) / (1 + rho))
+    n = r.size
+    if n < 3 or not np.any(r):
+        return float(max(n, 1))
+    f = np.fft.rfft(r, 2 * n)
+    acf = np.fft.irfft(f * np.conj(f))[:n]
+    acf = acf / acf[0]
+    neg = np.flatnonzero(acf[1:] < 0)
+    k = int(neg[0]) if neg.size else n - 1
+    tau = 1.0 + 2.0 * float(np.sum(acf[1:k + 1]))
+    return float(min(n, max(10.0, n / max(tau, 1.0))))
 
 
 @dataclass
@@ -202,6 +216,7 @@ class Diagnosis:
     notes: list[str] = field(default_factory=list)
     fits: dict[str, CauseFit] = field(default_factory=dict, repr=False)
     prepared: Prepared | None = field(default=None, repr=False)
+    also: list[dict[str, Any]] = field(default_factory=list)  # a second effect found with the first
 
     def as_dict(self) -> dict[str, Any]:
         def clean(v: float) -> float | None:
@@ -212,7 +227,7 @@ class Diagnosis:
                 "extended_heldout_rmse_Nm": clean(self.extended_heldout_rmse_nm),
                 "heldout_rmse_ratio": clean(self.heldout_rmse_ratio), "delta_bic": clean(self.delta_bic),
                 "effective_n": self.effective_n, "ambiguous_with": self.ambiguous_with,
-                "separate_by": self.separate_by, "notes": self.notes,
+                "separate_by": self.separate_by, "notes": self.notes, "also": self.also,
                 "candidates": [c.as_dict() for c in self.candidates]}
 
     def text(self) -> str:
@@ -222,6 +237,9 @@ class Diagnosis:
         lines.append(f"  RMSE baseline {self.baseline_rmse_nm:.3f} N·m → extended {self.extended_rmse_nm:.3f} N·m; "
                      f"held-out {self.baseline_heldout_rmse_nm:.3f} → {self.extended_heldout_rmse_nm:.3f} "
                      f"(ratio {self.heldout_rmse_ratio:.2f}); ΔBIC {self.delta_bic:.1f} at n_eff {self.effective_n:.0f}")
+        for a in self.also:
+            lines.append(f"  and also: {a['cause']} " + ", ".join(f"{k} = {v:.4g}" for k, v in a["parameters"].items())
+                         + f" (RMSE {a['rmse_Nm']:.3f} N·m, ΔBIC {a['delta_bic_vs_single']:.1f} against the first alone)")
         for s in self.separate_by:
             lines.append(f"  to separate them: {s}")
         for n in self.notes:
@@ -258,8 +276,21 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
                      "seen; record a return movement")
         names = [n for n in names if n not in ("coulomb_friction", "viscous_damping", "time_delay")]
     fits = {n: fit_cause(prep, CAUSES[n]) for n in names}
-    best_rss = min(fits.values(), key=lambda f: f.rss / max(f.n, 1))
+    # pairs of the three causes that fit best: a trial may carry two effects (the AFO: friction and a stop)
+    top = sorted((n for n in fits if n != "none"), key=lambda n: fits[n].rss / fits[n].n)[:3]
+    pairs: dict[str, tuple[Cause, CauseFit]] = {}
+    for a, b in itertools.combinations(top, 2):
+        if a in ARGUMENT_CAUSES and b in ARGUMENT_CAUSES:
+            continue
+        cause = compound(CAUSES[a], CAUSES[b])
+        pairs[frozenset((a, b))] = (cause, fit_cause(prep, cause, refine=False))
+    # the noise's correlation is judged on the best model's residual, pairs included
+    best_rss = min([*fits.values(), *(f for _, f in pairs.values())], key=lambda f: f.rss / max(f.n, 1))
     n_eff = effective_n(prep.torque - best_rss.prediction)
+    if n_eff <= 20:
+        notes.append(f"the residual holds only about {n_eff:.0f} independent samples (a short or heavily filtered "
+                     "trial, or several effects at once): record a longer trial with more bends before trusting "
+                     "a 'none'")
     def bic(f: CauseFit) -> float:
         return n_eff * math.log(max(f.rss / f.n, 1e-300)) + f.n_params * math.log(n_eff)
     base = fits["none"]
@@ -298,11 +329,35 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
                     hint = SEPARATE_BY.get(frozenset({winner.cause, c.cause}))
                     if hint:
                         separate.append(hint)
+    also: list[dict[str, Any]] = []
+    if winner.cause != "none":
+        wf = fits[winner.cause]
+        w_ho = winner.heldout_rmse_nm
+        best_pair = None
+        for key, (cause, pf) in pairs.items():
+            if winner.cause not in key:
+                continue
+            other = next(iter(key - {winner.cause}))
+            if absorbed.get(other, 0.0) > max_absorbed_r2:
+                continue
+            d = bic(pf) - bic(wf)
+            transient = CAUSES[other].transient or CAUSES[winner.cause].transient
+            ho = float("nan") if transient else heldout_rmse(prep, cause, folds)
+            ratio = ho / w_ho if math.isfinite(ho) and math.isfinite(w_ho) and w_ho > 0 else float("nan")
+            if d < -min_delta_bic and (transient or ratio < max_heldout_ratio):
+                if best_pair is None or d < best_pair[0]:
+                    best_pair = (d, other, pf, ratio)
+        if best_pair is not None:
+            d, other, pf, ratio = best_pair
+            extra = {k: v for k, v in pf.params.items() if k not in wf.params or CAUSES[other].magnitude_key == k}
+            also.append({"cause": other, "parameters": extra, "delta_bic_vs_single": d,
+                         "heldout_ratio_vs_single": ratio if math.isfinite(ratio) else None,
+                         "rmse_Nm": math.sqrt(pf.rss / pf.n)})
     f = fits[winner.cause]
     return Diagnosis(trial.kind, winner.cause, f.params, math.sqrt(base.rss / base.n), math.sqrt(f.rss / f.n), base_ho,
                      winner.heldout_rmse_nm if math.isfinite(winner.heldout_rmse_nm) else float("nan"),
                      winner.heldout_ratio if winner.cause != "none" else 1.0, winner.delta_bic, n_eff, cands,
-                     ambiguous, separate, notes, fits, prep)
+                     ambiguous, separate, notes, fits, prep, also)
 
 
 def magnitude(d: Diagnosis) -> float:

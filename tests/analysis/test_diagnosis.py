@@ -117,3 +117,18 @@ def test_the_seeds_own_case_explains_table_2_1() -> None:
         assert abs(e.error_without_both_pct) < 1.0 < abs(e.error_raw_pct) + 1.0
         assert e.error_without_friction_pct < e.error_raw_pct < e.error_without_compliance_pct  # the two pull apart
         assert e.rmse_after_nm < 0.5 * e.rmse_before_nm
+
+
+def test_two_effects_at_once_are_both_named() -> None:
+    """An AFO bent past its stop with a sticky hinge: the stop first, the friction as the second effect."""
+    trial, hidden = make_trial("afo", "hard_stop", 31)
+    omega = np.gradient(trial.angle_rad, trial.time_s)
+    friction = float(np.random.default_rng(31).uniform(0.4, 0.8))
+    sticky = DiagnosisTrial("afo", trial.time_s, trial.angle_rad,
+                            trial.torque_nm + friction * np.tanh(omega / np.deg2rad(1.0)), {}, {}, "stop+friction")
+    d = diagnose(sticky)
+    named = {d.cause} | {a["cause"] for a in d.also}
+    assert named == {"hard_stop", "coulomb_friction"}, d.text()
+    params = {**d.parameters, **{k: v for a in d.also for k, v in a["parameters"].items()}}
+    assert abs(params["friction_Nm"] / friction - 1) < 0.25
+    assert abs(params["stop_stiffness_Nm_per_deg"] / hidden.magnitude - 1) < 0.25
