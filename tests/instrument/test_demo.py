@@ -38,3 +38,9 @@ def test_demo_records_a_lab_day_into_a_store(tmp_path: Path) -> None:
     assert anova["Spring"]["p"] < 1e-6
     assert len(afo["recorded"]) == 3 and all(r["sop_vs_bottom_up_max_nm"] < 1e-9 for r in afo["recorded"])
     assert (tmp_path / "afo" / "torque_angle.png").exists()
+    explained = {r["spring"]: r for r in afo["explained"]}
+    for r in explained.values():  # friction and shell compliance together explain the stiffness error
+        assert abs(r["error_without_both_pct"]) < 1.0
+    assert explained[1]["error_raw_pct"] > 0 > explained[3]["error_raw_pct"]
+    assert {d["protocol"] for d in report["diagnosis"]} == {"aads", "knee", "ankle", "replica"}
+    assert all("cause" in d and "candidates" in d for d in report["diagnosis"])
