@@ -1,0 +1,1 @@
+"""Passive muscle-tendon parameters (dissertation ch. 3): curves, leg geometry and the estimator."""
