@@ -30,13 +30,15 @@ from .model import JigModel, Segment
 MIN_SPREAD_M = 0.005
 
 
-def fit_poses(model_m: np.ndarray, measured_m: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def fit_poses(model_m: np.ndarray, measured_m: np.ndarray,
+              residuals: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]:
     """Least-squares rigid poses of a marker cluster, every frame at once.
 
     :param model_m: marker coordinates in the segment frame (markers, 3), m.
     :param measured_m: measured positions (frames, markers, 3) in the lab, m; NaN where missing.
     :returns: rotation (frames, 3, 3) segment→lab, origin (frames, 3) m, fit-ok (frames,) and the
-        distance of each measured marker from its fitted position (frames, markers) m (NaN if missing).
+        distance of each measured marker from its fitted position (frames, markers) m (NaN if missing;
+        ``None`` when ``residuals`` is False).
     """
     n, m, _ = measured_m.shape
     present = np.all(np.isfinite(measured_m), axis=2)
@@ -57,11 +59,12 @@ def fit_poses(model_m: np.ndarray, measured_m: np.ndarray) -> tuple[np.ndarray, 
     v[:, :, 2] *= d[:, None]
     rot = np.matmul(v, u.transpose(0, 2, 1))  # V diag(1, 1, d) Uᵀ
     origin = cy - np.matmul(rot, cx[:, :, None])[:, :, 0]
-    fitted = np.matmul(model_m[None], rot.transpose(0, 2, 1)) + origin[:, None, :]
-    resid = np.linalg.norm(fitted - measured_m, axis=2)
     rot[~ok] = np.nan
     origin[~ok] = np.nan
-    resid[~ok] = np.nan
+    if not residuals:
+        return rot, origin, ok, None
+    fitted = np.matmul(model_m[None], rot.transpose(0, 2, 1)) + origin[:, None, :]
+    resid = np.linalg.norm(fitted - measured_m, axis=2)
     return rot, origin, ok, resid
 
 
@@ -201,7 +204,7 @@ def aads_kinematics(trial: MotionTrial, model: JigModel) -> AadsKinematics:
         filled = meas.copy()
         partial = np.flatnonzero(ok & ~present.all(axis=1))
         if partial.size:  # fill a missing marker from its segment's pose on the markers present
-            rot, origin, _, _ = fit_poses(x_model, meas[partial])
+            rot, origin, _, _ = fit_poses(x_model, meas[partial], residuals=False)
             fill = np.matmul(x_model[None], rot.transpose(0, 2, 1)) + origin[:, None, :]
             filled[partial] = np.where(present[partial, :, None], meas[partial], fill)
         filled[~ok] = np.nan
@@ -210,7 +213,7 @@ def aads_kinematics(trial: MotionTrial, model: JigModel) -> AadsKinematics:
         raw_ok_all &= ok
         bridged_all &= has
         smooth = lowpass(bridged, rate, model.filter_cutoff_hz)
-        rot_f, origin_f, _, _ = fit_poses(x_model, smooth)
+        rot_f, origin_f, _, _ = fit_poses(x_model, smooth, residuals=False)
         # residual of each measured marker from the fitted (filtered) rigid segment
         fitted = np.matmul(x_model[None], rot_f.transpose(0, 2, 1)) + origin_f[:, None, :]
         residuals.append(np.where(present, np.linalg.norm(fitted - meas, axis=2), np.nan))

@@ -94,10 +94,6 @@ class Cause:
     grid: Callable[[Prepared], "list[np.ndarray] | np.ndarray"] = field(default=lambda p: [])
     transient: bool = False  # a local event: held-out blocks cannot predict it
 
-    @property
-    def n_nonlinear(self) -> int:
-        return 0
-
 
 def _plain(prep: Prepared, extra: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     if prep.base_cache is None:

@@ -34,7 +34,6 @@ from typing import Any
 import numpy as np
 from scipy.optimize import minimize, minimize_scalar
 
-from ..errors import InputError
 from .causes import ARGUMENT_CAUSES, CAUSES, SEPARATE_BY, UNTESTABLE_HINT, Cause, Prepared, baseline_columns, compound
 from .data import DiagnosisTrial
 
@@ -366,4 +365,4 @@ def magnitude(d: Diagnosis) -> float:
     return float(d.parameters.get(key, float("nan"))) if key else float("nan")
 
 
-__all__ = ["diagnose", "Diagnosis", "Candidate", "CauseFit", "fit_cause", "magnitude", "InputError"]
+__all__ = ["diagnose", "Diagnosis", "Candidate", "CauseFit", "fit_cause", "magnitude"]

@@ -140,8 +140,9 @@ def make_trial(kind: str, cause: str = "none", seed: int = 0, magnitude: float |
         probe = DiagnosisTrial(kind, t, np.deg2rad(trial_angle), np.zeros_like(t), fixed, dict(SUBJECT))
         torque = torque + probe.limb_gravity_nm()
         if cause == "gravity_error":
-            torque = torque + mag * rng.choice([-1.0, 1.0]) * probe.gravity_shape()
-            extra["sign"] = float(np.sign(torque[0]))
+            sign = float(rng.choice([-1.0, 1.0]))
+            torque = torque + sign * mag * probe.gravity_shape()
+            extra["sign"] = sign
     if cause == "coulomb_friction":
         torque = torque + mag * np.tanh(omega / FRICTION_SPEED_RAD_S)
     elif cause == "viscous_damping":
