@@ -134,6 +134,66 @@ def absorbed_by_baseline(prep: Prepared, cause: Cause, fit: CauseFit) -> float:
     return float(1.0 - np.sum(r**2) / np.sum((j - j.mean()) ** 2))
 
 
+def parameter_se(prep: Prepared, cause: Cause, fit: CauseFit, n_eff: float) -> dict[str, float]:
+    """Standard errors of the reported parameters: least-squares covariance of the coefficients and the
+    curvature of the profiled residual sum of squares for the nonlinear ones, both inflated by n / n_eff."""
+    if cause.name == "none":
+        return {}
+    base, ext, valid = cause.columns(prep, fit.nonlinear)
+    x = np.hstack([base, ext])[valid]
+    dof = max(fit.n - fit.n_params, 1)
+    s2 = fit.rss / dof * (fit.n / n_eff)
+    scale = np.maximum(np.abs(x).max(axis=0), 1e-12)
+    try:
+        cov = np.linalg.inv((x / scale).T @ (x / scale)) / np.outer(scale, scale) * s2
+    except np.linalg.LinAlgError:
+        return {}
+    se_c = np.sqrt(np.maximum(np.diag(cov), 0.0))[fit.n_base:]
+    ref = cause.report(fit.coef[fit.n_base:], fit.nonlinear)
+    var = {k: 0.0 for k in ref}
+    for i in range(se_c.size):
+        c = fit.coef[fit.n_base:].copy()
+        c[i] += se_c[i]
+        for k, v in cause.report(c, fit.nonlinear).items():
+            var[k] += (v - ref[k]) ** 2
+    for j, v0 in enumerate(fit.nonlinear):
+        h = max(abs(v0) * 1e-3, 1e-4)
+        nl_p = list(fit.nonlinear); nl_p[j] = v0 + h
+        nl_m = list(fit.nonlinear); nl_m[j] = v0 - h
+        rss = [_solve(prep, cause, tuple(nl), np.ones(prep.t.size, bool))[0] for nl in (nl_m, fit.nonlinear, nl_p)]
+        curv = (rss[0] - 2 * rss[1] + rss[2]) / h**2
+        if curv <= 0:
+            continue
+        se_nl = math.sqrt(2 * s2 / curv)
+        nl_se = list(fit.nonlinear); nl_se[j] = v0 + se_nl
+        for k, v in cause.report(fit.coef[fit.n_base:], tuple(nl_se)).items():
+            var[k] += (v - ref[k]) ** 2
+    return {k: math.sqrt(v) for k, v in var.items()}
+
+
+def systematic_regions(prep: Prepared, residual: np.ndarray, n_eff: float, bins: int = 10) -> list[dict[str, Any]]:
+    """Angle bins (per branch: loading, unloading, still) where the mean residual exceeds 3 standard errors."""
+    ok = np.isfinite(residual)
+    edges = np.linspace(prep.lo, prep.hi, bins + 1)
+    sd = float(np.std(residual[ok])) if ok.any() else 0.0
+    inflate = prep.t.size / n_eff
+    out = []
+    moving = np.deg2rad(1.0)
+    for branch, mask in (("loading", prep.omega > moving), ("unloading", prep.omega < -moving),
+                         ("still", np.abs(prep.omega) <= moving)):
+        for a, b in zip(edges[:-1], edges[1:]):
+            sel = ok & mask & (prep.theta >= a) & (prep.theta <= b)
+            n = int(sel.sum())
+            if n < 10 or sd == 0:
+                continue
+            mean = float(residual[sel].mean())
+            se = sd * math.sqrt(inflate / n)
+            if abs(mean) > 3 * se:
+                out.append({"branch": branch, "angle_deg": [float(np.rad2deg(a)), float(np.rad2deg(b))],
+                            "mean_residual_Nm": mean, "standard_error_Nm": se})
+    return out
+
+
 def _blocks(n: int, folds: int) -> list[np.ndarray]:
     edges = np.linspace(0, n, folds + 1).astype(int)
     return [np.arange(edges[i], edges[i + 1]) for i in range(folds)]
@@ -216,11 +276,14 @@ class Diagnosis:
     fits: dict[str, CauseFit] = field(default_factory=dict, repr=False)
     prepared: Prepared | None = field(default=None, repr=False)
     also: list[dict[str, Any]] = field(default_factory=list)  # a second effect found with the first
+    parameters_se: dict[str, float] = field(default_factory=dict)
+    systematic: list[dict[str, Any]] = field(default_factory=list)  # where the baseline's residual is not noise
 
     def as_dict(self) -> dict[str, Any]:
         def clean(v: float) -> float | None:
             return v if math.isfinite(v) else None
         return {"kind": self.kind, "cause": self.cause, "parameters": self.parameters,
+                "parameters_se": self.parameters_se, "baseline_systematic_regions": self.systematic,
                 "baseline_rmse_Nm": clean(self.baseline_rmse_nm), "extended_rmse_Nm": clean(self.extended_rmse_nm),
                 "baseline_heldout_rmse_Nm": clean(self.baseline_heldout_rmse_nm),
                 "extended_heldout_rmse_Nm": clean(self.extended_heldout_rmse_nm),
@@ -232,7 +295,12 @@ class Diagnosis:
     def text(self) -> str:
         lines = [f"cause: {self.cause}" + (f" (cannot be told from {', '.join(self.ambiguous_with)})" if self.ambiguous_with else "")]
         for k, v in self.parameters.items():
-            lines.append(f"  {k} = {v:.4g}")
+            se = self.parameters_se.get(k)
+            lines.append(f"  {k} = {v:.4g}" + (f" ± {se:.2g} (SE)" if se is not None else ""))
+        if self.systematic:
+            regions = "; ".join(f"{r['branch']} {r['angle_deg'][0]:.0f}–{r['angle_deg'][1]:.0f}° "
+                                f"({r['mean_residual_Nm']:+.2f} N·m)" for r in self.systematic[:6])
+            lines.append(f"  baseline systematically off at: {regions}" + (" …" if len(self.systematic) > 6 else ""))
         lines.append(f"  RMSE baseline {self.baseline_rmse_nm:.3f} N·m → extended {self.extended_rmse_nm:.3f} N·m; "
                      f"held-out {self.baseline_heldout_rmse_nm:.3f} → {self.extended_heldout_rmse_nm:.3f} "
                      f"(ratio {self.heldout_rmse_ratio:.2f}); ΔBIC {self.delta_bic:.1f} at n_eff {self.effective_n:.0f}")
@@ -353,10 +421,12 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
                          "heldout_ratio_vs_single": ratio if math.isfinite(ratio) else None,
                          "rmse_Nm": math.sqrt(pf.rss / pf.n)})
     f = fits[winner.cause]
+    se = parameter_se(prep, CAUSES[winner.cause], f, n_eff)
+    systematic = systematic_regions(prep, prep.torque - base.prediction, n_eff)
     return Diagnosis(trial.kind, winner.cause, f.params, math.sqrt(base.rss / base.n), math.sqrt(f.rss / f.n), base_ho,
                      winner.heldout_rmse_nm if math.isfinite(winner.heldout_rmse_nm) else float("nan"),
                      winner.heldout_ratio if winner.cause != "none" else 1.0, winner.delta_bic, n_eff, cands,
-                     ambiguous, separate, notes, fits, prep, also)
+                     ambiguous, separate, notes, fits, prep, also, se, systematic)
 
 
 def magnitude(d: Diagnosis) -> float:

@@ -132,3 +132,18 @@ def test_two_effects_at_once_are_both_named() -> None:
     params = {**d.parameters, **{k: v for a in d.also for k, v in a["parameters"].items()}}
     assert abs(params["friction_Nm"] / friction - 1) < 0.25
     assert abs(params["stop_stiffness_Nm_per_deg"] / hidden.magnitude - 1) < 0.25
+
+
+def test_standard_errors_cover_the_truth_and_systematic_regions_are_marked() -> None:
+    inside = 0
+    for seed in range(10):
+        trial, hidden = make_trial("afo", "coulomb_friction", 300 + seed)
+        d = diagnose(trial)
+        se = d.parameters_se["friction_Nm"]
+        inside += abs(d.parameters["friction_Nm"] - hidden.magnitude) < 3 * se
+        # friction puts the loading branch above the baseline and the unloading branch below it
+        branches = {r["branch"]: np.sign(r["mean_residual_Nm"]) for r in d.systematic}
+        assert branches.get("loading") == 1 and branches.get("unloading") == -1
+    assert inside >= 8, inside
+    clean = diagnose(make_trial("afo", "none", 300)[0])
+    assert len(clean.systematic) <= 1
