@@ -1,0 +1,103 @@
+"""Passive joint moments of the eleven leg muscles from their paths and the DeGroote–Fregly curves (SI).
+
+Each muscle is a fibre at constant thickness (pennation: l_M sin α = l_opt sin α₀) in series with
+its tendon. Knee muscles have rigid tendons (l_T = l_s); the calf muscles (soleus, gasmed,
+gaslat) have compliant tendons whose length follows from the fibre–tendon equilibrium of
+eq 3.2, f_pas(l̃_M, ε₀)·cos α = f_T(l̃_T, ε_T0). A muscle's force along its path times its
+moment arm (r = −∂L/∂q) gives its moment toward positive joint angle; the passive elastic
+elements are conservative, so the joint moment is also −∂U/∂q of their stored energy, which the
+tests use as an independent check.
+
+Parameters per muscle (``MuscleParameters``): tendon slack length (m), passive fibre strain ε₀,
+tendon strain ε_T0. Subject scaling multiplies the generic lengths (path, optimal fibre length,
+tendon slack length) by the ratio of the subject's segment length to the generic one, as
+OpenSim's scaling does for muscles on one segment pair.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from scipy.optimize import brentq
+
+from .curves import passive_fiber_force, tendon_force
+from .geometry import MUSCLES, MusclePath, load_paths
+
+COMPLIANT = ("soleus", "gasmed", "gaslat")
+
+
+@dataclass
+class MuscleParameters:
+    """The estimated parameters of one muscle."""
+
+    tendon_slack_length_m: float
+    passive_strain: float = 0.6     # ε₀ (DeGroote–Fregly default)
+    tendon_strain: float = 0.049    # ε_T0 (DeGroote–Fregly default)
+
+
+@dataclass
+class LegMuscles:
+    """The eleven muscles of one (scaled) leg."""
+
+    paths: dict[str, MusclePath] = field(default_factory=load_paths)
+    length_scale: float = 1.0
+    params: dict[str, MuscleParameters] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        for m in MUSCLES:
+            self.params.setdefault(m, MuscleParameters(self.paths[m].tendon_slack_length_m * self.length_scale))
+
+    def optimal_fiber_length_m(self, m: str) -> float:
+        return self.paths[m].optimal_fiber_length_m * self.length_scale
+
+    def path_length_m(self, m: str, **q: Any) -> Any:
+        return self.paths[m].length_m(**q) * self.length_scale
+
+    def moment_arm_m(self, m: str, joint: str, **q: Any) -> Any:
+        return self.paths[m].moment_arm_m(joint, **q) * self.length_scale
+
+    def fiber_state(self, m: str, path_length_m: float) -> tuple[float, float, float]:
+        """(fibre length m, pennation rad, tendon force N) at one path length (numpy; equilibrium for the calf)."""
+        p, par = self.paths[m], self.params[m]
+        lo = self.optimal_fiber_length_m(m)
+        h = lo * np.sin(p.pennation_at_optimal_rad)
+        ls = par.tendon_slack_length_m
+
+        def fibre(l_t: float) -> tuple[float, float]:
+            along = max(path_length_m - l_t, 1e-9)
+            lm = float(np.sqrt(along**2 + h**2))
+            return lm, float(np.arcsin(h / lm))
+
+        if m not in COMPLIANT:
+            lm, alpha = fibre(ls)
+            force = p.max_isometric_force_n * float(passive_fiber_force(lm / lo, par.passive_strain)) * np.cos(alpha)
+            return lm, alpha, force
+
+        def residual(l_t: float) -> float:
+            lm, alpha = fibre(l_t)
+            return (float(passive_fiber_force(lm / lo, par.passive_strain)) * np.cos(alpha)
+                    - float(tendon_force(l_t / ls, par.tendon_strain)))
+
+        hi = min(path_length_m - 1e-6, ls * (1.0 + 3.0 * par.tendon_strain))
+        if residual(ls) <= 0:  # the fibre pulls less than a slack tendon can carry: tendon at slack
+            l_t = ls
+        else:
+            l_t = brentq(residual, ls, hi, xtol=1e-14, rtol=1e-14)
+        lm, alpha = fibre(l_t)
+        return lm, alpha, p.max_isometric_force_n * float(tendon_force(l_t / ls, par.tendon_strain))
+
+    def force_n(self, m: str, **q: float) -> float:
+        """Passive force along the path (N) at joint angles ``q`` (rad)."""
+        return max(self.fiber_state(m, float(self.path_length_m(m, **q)))[2], 0.0)
+
+    def joint_moment_nm(self, joint: str, **q: float) -> float:
+        """Passive moment of all muscles about ``joint`` toward positive angle (N·m)."""
+        return float(sum(float(self.moment_arm_m(m, joint, **q)) * self.force_n(m, **q) for m in MUSCLES
+                         if joint in self.paths[m].joints))
+
+
+def scale_for_subject(shank_length_m: float, generic_shank_length_m: float = 0.43) -> float:
+    """Length scale of the leg muscles for a subject's shank (Rajagopal's generic tibia ≈ 0.43 m)."""
+    return shank_length_m / generic_shank_length_m

@@ -1,0 +1,61 @@
+"""Passive joint moments: the muscles' moments are −∂U/∂q of the energy their fibres and tendons store."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.integrate import quad
+
+from analysis.pmp.curves import passive_fiber_force, tendon_force
+from analysis.pmp.muscles import COMPLIANT, LegMuscles, MuscleParameters, scale_for_subject
+
+
+def energy_j(leg: LegMuscles, m: str, q: dict[str, float]) -> float:
+    """Elastic energy (J) stored in muscle ``m`` at posture ``q``: fibre ∫F dl_M plus tendon ∫F dl_T."""
+    p, par = leg.paths[m], leg.params[m]
+    lo = leg.optimal_fiber_length_m(m)
+    lm, _, _ = leg.fiber_state(m, float(leg.path_length_m(m, **q)))
+    fibre = p.max_isometric_force_n * lo * quad(lambda x: float(passive_fiber_force(x, par.passive_strain)), 0.2,
+                                                lm / lo, epsabs=1e-13, epsrel=1e-12)[0]
+    tendon = 0.0
+    if m in COMPLIANT:
+        ls = par.tendon_slack_length_m
+        lt = float(leg.path_length_m(m, **q)) - np.sqrt(lm**2 - (lo * np.sin(p.pennation_at_optimal_rad)) ** 2)
+        if lt > ls:
+            tendon = p.max_isometric_force_n * ls * quad(lambda x: float(tendon_force(x, par.tendon_strain)), 1.0,
+                                                         lt / ls, epsabs=1e-13, epsrel=1e-12)[0]
+    return fibre + tendon
+
+
+@pytest.mark.parametrize("muscle,joint,posture", [
+    ("bflh", "knee", {"hip": np.deg2rad(90), "knee": np.deg2rad(10), "ankle": 0.0}),
+    ("recfem", "knee", {"hip": np.deg2rad(-5), "knee": np.deg2rad(100), "ankle": 0.0}),
+    ("vasint", "knee", {"hip": 0.0, "knee": np.deg2rad(105), "ankle": 0.0}),
+    ("gasmed", "ankle", {"hip": 0.0, "knee": 0.0, "ankle": np.deg2rad(20)}),
+    ("soleus", "ankle", {"hip": 0.0, "knee": np.deg2rad(90), "ankle": np.deg2rad(25)}),
+])
+def test_moment_is_minus_the_energy_gradient(muscle: str, joint: str, posture: dict[str, float]) -> None:
+    leg = LegMuscles()
+    # stretch the passive curves (small ε₀, short slack) so every muscle carries load at this posture
+    leg.params[muscle] = MuscleParameters(leg.paths[muscle].tendon_slack_length_m * 0.93, passive_strain=0.35,
+                                          tendon_strain=0.04)
+    force = leg.force_n(muscle, **posture)
+    assert force > 20.0, force
+    h = 1e-5
+    up = energy_j(leg, muscle, {**posture, joint: posture[joint] + h})
+    down = energy_j(leg, muscle, {**posture, joint: posture[joint] - h})
+    moment = float(leg.moment_arm_m(muscle, joint, **posture)) * force
+    assert moment == pytest.approx(-(up - down) / (2 * h), rel=2e-4, abs=1e-4)
+
+
+def test_calf_equilibrium_and_the_rigid_tendon_error_it_avoids() -> None:
+    leg = LegMuscles()
+    q = {"hip": 0.0, "knee": 0.0, "ankle": np.deg2rad(15)}
+    m = "gasmed"
+    lm, alpha, f_t = leg.fiber_state(m, float(leg.path_length_m(m, **q)))
+    p, par = leg.paths[m], leg.params[m]
+    f_m = p.max_isometric_force_n * float(passive_fiber_force(lm / leg.optimal_fiber_length_m(m), par.passive_strain))
+    assert f_m * np.cos(alpha) == pytest.approx(f_t, rel=1e-9)  # eq 3.2
+    stretched = leg.joint_moment_nm("ankle", **q)
+    assert stretched < 0  # the calf resists dorsiflexion
+    assert 0.9 < scale_for_subject(0.42) < 1.0
