@@ -1,0 +1,320 @@
+"""Passive muscle-tendon parameters from isokinetic trials by direct collocation (CasADi, Hermite–Simpson).
+
+build problem → solve → result, after bioptim. For every trial the states are the moving joint's
+angle q and velocity v, the control is the dynamometer torque u, and the dynamics are
+
+    I q̈ = u + M_muscles(q; p) + M_gravity(q)
+
+(torque convention of the trial CSV: u is the torque the dynamometer applies toward positive
+angle once the arm's weight is removed, so a trial CSV's ``torque_Nm`` is −u at constant speed).
+Hermite–Simpson collocation (states and controls at the nodes and interval midpoints) enforces
+the dynamics; the calf muscles' tendon lengths are algebraic variables held by the fibre–tendon
+equilibrium (eq 3.2) at every point. The cost is eq 3.8, Simpson-integrated over time:
+(q − q_m)²/σ_q² + (v − v_m)²/σ_v² + (u − u_m)²/σ_u² with σ_q = 0.5°, σ_v = 2 °/s, σ_u = 0.5 N·m
+(typical dynamometer noise), plus a weak pull toward the generic parameters (1e-3 per squared
+relative deviation) so that directions the data do not determine stay at the generic values
+instead of wandering; the identifiability report says which those are.
+
+Parameters, shared by all trials given: tendon slack length of every muscle crossing a moving
+joint (bounds: 60 % of generic, and the shortest path length over the experiment's range of
+hip, knee and ankle angles, so no muscle buckles), passive fibre strain ε₀ of the knee muscles (0.2–1.2) and tendon strain ε_T0 of the calf
+muscles (0.02–0.12). All decision variables are scaled to order one.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..errors import FitError, InputError
+from .curves import passive_fiber_force, tendon_force
+from .geometry import MUSCLES
+from .muscles import COMPLIANT, LegMuscles
+
+G = 9.81
+SIGMA_Q_RAD = np.deg2rad(0.5)
+SIGMA_V_RAD_S = np.deg2rad(2.0)
+SIGMA_U_NM = 0.5
+REGULARISATION = 1e-3
+KNEE_MUSCLES = tuple(m for m in MUSCLES if m not in ("soleus",))
+
+
+@dataclass
+class PmpTrial:
+    """One isokinetic trial (SI): the moving joint, the fixed angles (rad), and the measured signals."""
+
+    joint: str                    # "knee" or "ankle"
+    fixed_rad: dict[str, float]   # the other joints' angles, e.g. {"hip": 1.57, "ankle": 0.0}
+    time_s: np.ndarray
+    angle_rad: np.ndarray
+    velocity_rad_s: np.ndarray
+    torque_nm: np.ndarray         # u: dynamometer torque toward positive angle, arm weight removed
+    name: str = ""
+
+
+@dataclass
+class Subject:
+    """Anthropometrics for gravity, inertia and muscle scaling (Winter's segment fractions)."""
+
+    mass_kg: float = 75.0
+    shank_length_m: float = 0.42
+    foot_length_m: float = 0.26
+    arm_inertia_kgm2: float = 0.0
+
+    def inertia_kgm2(self, joint: str) -> float:
+        m, ls, lf = self.mass_kg, self.shank_length_m, self.foot_length_m
+        if joint == "knee":
+            ms, mf = 0.0465 * m, 0.0145 * m
+            return ms * (0.302 * ls) ** 2 + ms * (0.433 * ls) ** 2 + mf * ls**2 + self.arm_inertia_kgm2
+        mf = 0.0145 * m
+        return mf * (0.475 * lf) ** 2 + mf * (0.5 * lf) ** 2 + self.arm_inertia_kgm2
+
+    def gravity_moment_nm(self, joint: str, q: Any, fixed: dict[str, float], cos: Any = np.cos) -> Any:
+        """Limb weight toward positive angle (as the seated simulator: thigh horizontal)."""
+        m = self.mass_kg
+        if joint == "knee":
+            return (0.0465 * m * 0.433 * self.shank_length_m + 0.0145 * m * self.shank_length_m) * G * cos(q)
+        return -0.0145 * m * 0.5 * self.foot_length_m * G * cos(q + np.pi / 2 - fixed.get("knee", 0.0))
+
+
+@dataclass
+class ParameterSet:
+    """Names, generic values, bounds and (after a fit) the estimates of the free parameters."""
+
+    names: list[str]
+    generic: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+
+
+def free_parameters(leg: LegMuscles, trials: list[PmpTrial]) -> ParameterSet:
+    """Slack lengths of muscles crossing a moving joint, ε₀ of the knee muscles among them, ε_T0 of the calf ones."""
+    joints = {t.joint for t in trials}
+    crossing = [m for m in MUSCLES if set(leg.paths[m].joints) & joints]
+    names, gen, lo, hi = [], [], [], []
+    # the experiment's range (hip 15–90°, knee 0–90°, ankle −30…15°) with 5° to spare
+    grid = np.deg2rad(np.stack(np.meshgrid(np.linspace(10, 95, 10), np.linspace(0, 95, 12), np.linspace(-35, 20, 8),
+                                           indexing="ij"), -1).reshape(-1, 3))
+    for m in crossing:
+        ls = leg.params[m].tendon_slack_length_m
+        shortest = float(np.min(leg.path_length_m(m, hip=grid[:, 0], knee=grid[:, 1], ankle=grid[:, 2])))
+        names.append(f"{m}.tendon_slack_length_m")
+        gen.append(ls)
+        lo.append(0.6 * ls)
+        hi.append(max(shortest - 1e-3, 0.6 * ls + 1e-3))  # the path never shorter than the tendon: no buckling
+    for m in crossing:
+        if m in COMPLIANT:
+            names.append(f"{m}.tendon_strain")
+            gen.append(leg.params[m].tendon_strain)
+            lo.append(0.02)
+            hi.append(0.12)
+        else:
+            names.append(f"{m}.passive_strain")
+            gen.append(leg.params[m].passive_strain)
+            lo.append(0.2)
+            hi.append(1.2)
+    return ParameterSet(names, np.array(gen), np.array(lo), np.array(hi))
+
+
+@dataclass
+class PmpResult:
+    """Estimates, the fit per trial, and the solver's account of itself."""
+
+    parameters: dict[str, float]
+    generic: dict[str, float]
+    lower: dict[str, float]
+    upper: dict[str, float]
+    cost: float
+    iterations: int
+    solve_s: float
+    status: str
+    trials: list[dict[str, np.ndarray]] = field(default_factory=list)
+    identifiability: dict[str, Any] = field(default_factory=dict)
+
+
+def _muscle_moment(leg: LegMuscles, m: str, joint: str, q: dict[str, Any], ls: Any, strain: Any, lt_norm: Any) -> tuple[Any, Any]:
+    """(moment toward positive angle, equilibrium residual or None) of one muscle in CasADi."""
+    import casadi as ca
+
+    p = leg.paths[m]
+    lo = leg.optimal_fiber_length_m(m)
+    h = lo * np.sin(p.pennation_at_optimal_rad)
+    lmt = leg.path_length_m(m, **q)
+    r = leg.moment_arm_m(m, joint, **q)
+    if m in COMPLIANT:
+        lt = lt_norm * ls
+        along = lmt - lt
+        lm = ca.sqrt(along**2 + h**2)
+        res = passive_fiber_force(lm / lo, 0.6) * along / lm - tendon_force(lt_norm, strain)
+        return r * p.max_isometric_force_n * tendon_force(lt_norm, strain), res
+    along = lmt - ls
+    lm = ca.sqrt(along**2 + h**2)
+    return r * p.max_isometric_force_n * passive_fiber_force(lm / lo, strain) * along / lm, None
+
+
+def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None = None, intervals: int = 40,
+             max_iter: int = 300, initial: dict[str, float] | None = None) -> PmpResult:
+    """Fit the passive parameters shared by ``trials`` (all at once).
+
+    :raises InputError: a trial is empty or moves another joint than knee/ankle.
+    :raises FitError: IPOPT does not converge.
+    """
+    import time
+
+    import casadi as ca
+
+    if not trials:
+        raise InputError("no trials to fit")
+    leg = leg or LegMuscles()
+    pset = free_parameters(leg, trials)
+    n_par = len(pset.names)
+    opti = ca.Opti()
+    p_scaled = opti.variable(n_par)  # parameter = generic · p_scaled
+    par = {n: pset.generic[i] * p_scaled[i] for i, n in enumerate(pset.names)}
+    opti.subject_to(opti.bounded(pset.lower / pset.generic, p_scaled, pset.upper / pset.generic))
+    start = np.array([(initial or {}).get(n, g) for n, g in zip(pset.names, pset.generic)]) / pset.generic
+    opti.set_initial(p_scaled, start)
+    cost = 0
+    outputs = []
+    for t in trials:
+        if t.joint not in ("knee", "ankle"):
+            raise InputError(f"{t.name}: the moving joint must be knee or ankle, not {t.joint!r}")
+        if t.time_s.size < 10:
+            raise InputError(f"{t.name}: {t.time_s.size} samples")
+        n_pts = 2 * intervals + 1
+        tt = np.linspace(t.time_s[0], t.time_s[-1], n_pts)
+        dt = (tt[-1] - tt[0]) / intervals
+        qm = np.interp(tt, t.time_s, t.angle_rad)
+        vm = np.interp(tt, t.time_s, t.velocity_rad_s)
+        um = np.interp(tt, t.time_s, t.torque_nm)
+        u_scale = max(float(np.max(np.abs(um))), 1.0)
+        q = opti.variable(n_pts)
+        v = opti.variable(n_pts)
+        u = opti.variable(n_pts)
+        opti.set_initial(q, qm)
+        opti.set_initial(v, vm)
+        opti.set_initial(u, um / u_scale)
+        calf = [m for m in COMPLIANT if t.joint in leg.paths[m].joints]
+        lt = {m: opti.variable(n_pts) for m in calf}
+        for m in calf:
+            opti.set_initial(lt[m], 1.01)
+            opti.subject_to(opti.bounded(0.99, lt[m], 1.2))
+        inertia = subject.inertia_kgm2(t.joint)
+        acc = []
+        for k in range(n_pts):
+            angles = {"hip": t.fixed_rad.get("hip", 0.0), "knee": t.fixed_rad.get("knee", 0.0),
+                      "ankle": t.fixed_rad.get("ankle", 0.0), t.joint: q[k]}
+            moment = subject.gravity_moment_nm(t.joint, q[k], t.fixed_rad, ca.cos)
+            for m in MUSCLES:
+                if t.joint not in leg.paths[m].joints:
+                    continue
+                strain = par.get(f"{m}.tendon_strain") if m in COMPLIANT else par.get(f"{m}.passive_strain")
+                mom, res = _muscle_moment(leg, m, t.joint, angles, par[f"{m}.tendon_slack_length_m"], strain,
+                                          lt[m][k] if m in calf else None)
+                moment = moment + mom
+                if res is not None:
+                    opti.subject_to(res == 0)
+            acc.append((u[k] * u_scale + moment) / inertia)
+        # Hermite–Simpson: points 0, 2, 4, … are nodes, odd points are interval midpoints
+        for i in range(intervals):
+            a, mid, b = 2 * i, 2 * i + 1, 2 * i + 2
+            opti.subject_to(q[mid] == 0.5 * (q[a] + q[b]) + dt / 8 * (v[a] - v[b]))
+            opti.subject_to(v[mid] == 0.5 * (v[a] + v[b]) + dt / 8 * (acc[a] - acc[b]))
+            opti.subject_to(q[b] - q[a] == dt / 6 * (v[a] + 4 * v[mid] + v[b]))
+            opti.subject_to(v[b] - v[a] == dt / 6 * (acc[a] + 4 * acc[mid] + acc[b]))
+        w = np.full(n_pts, 2.0)
+        w[1::2] = 4.0
+        w[0] = w[-1] = 1.0
+        w *= (dt / 2) / 3 / (tt[-1] - tt[0])  # Simpson weights, normalised to a mean
+        err = ((q - qm) / SIGMA_Q_RAD) ** 2 + ((v - vm) / SIGMA_V_RAD_S) ** 2 + ((u * u_scale - um) / SIGMA_U_NM) ** 2
+        cost = cost + ca.dot(ca.DM(w), err)
+        outputs.append((t, tt, q, v, u, u_scale, qm, vm, um))
+    reg = REGULARISATION * ca.sumsqr(p_scaled - 1.0)
+    opti.minimize(cost + reg)
+    opti.solver("ipopt", {"print_time": False}, {"print_level": 0, "max_iter": max_iter, "tol": 1e-8,
+                                                  "sb": "yes"})
+    t0 = time.perf_counter()
+    try:
+        sol = opti.solve()
+        status = "converged"
+    except RuntimeError as err:
+        raise FitError(f"IPOPT did not converge: {err}") from err
+    solve_s = time.perf_counter() - t0
+    est = np.asarray(sol.value(p_scaled)).ravel() * pset.generic
+    stats = sol.stats()
+    res_trials = []
+    for t, tt, q, v, u, u_scale, qm, vm, um in outputs:
+        res_trials.append({"name": t.name, "time_s": tt, "angle_rad": sol.value(q), "velocity_rad_s": sol.value(v),
+                           "torque_nm": sol.value(u) * u_scale, "measured_angle_rad": qm, "measured_torque_nm": um})
+    return PmpResult(dict(zip(pset.names, est.tolist())), dict(zip(pset.names, pset.generic.tolist())),
+                     dict(zip(pset.names, pset.lower.tolist())), dict(zip(pset.names, pset.upper.tolist())),
+                     float(sol.value(cost)), int(stats.get("iter_count", -1)), solve_s, status, res_trials)
+
+
+def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None = None,
+                    rel_se_limit: float = 0.035, stride: int = 5) -> dict[str, Any]:
+    """Which parameters the trials determine: Fisher information of the torque residuals at the estimate.
+
+    The torque residuals (σ_u = 0.5 N·m) at the measured angles are linearised in the relative
+    parameters (Gauss–Newton: F = JᵀJ, J from CasADi's exact derivatives). A parameter is
+    *determined* when its standard error, from the pseudo-inverse of F restricted to the
+    directions the data constrain, is below ``rel_se_limit`` (3.5 %, the dissertation's accuracy);
+    the eigenvectors of F with eigenvalues below 1/limit² are the combinations the data leave free,
+    listed with their largest components.
+    """
+    import casadi as ca
+
+    leg = leg or LegMuscles()
+    names = list(result.parameters)
+    values = np.array([result.parameters[n] for n in names])
+    prel = ca.SX.sym("p", len(names))
+    par = {n: values[i] * prel[i] for i, n in enumerate(names)}
+    q = ca.SX.sym("q")
+    rows = []
+    for t in trials:
+        angles = {"hip": t.fixed_rad.get("hip", 0.0), "knee": t.fixed_rad.get("knee", 0.0),
+                  "ankle": t.fixed_rad.get("ankle", 0.0), t.joint: q}
+        moment, res_eqs, lts = 0, [], []
+        for m in MUSCLES:
+            if t.joint not in leg.paths[m].joints:
+                continue
+            if f"{m}.tendon_slack_length_m" not in par:
+                continue
+            strain = par.get(f"{m}.tendon_strain") if m in COMPLIANT else par.get(f"{m}.passive_strain")
+            lt = ca.SX.sym(f"lt_{m}") if m in COMPLIANT else None
+            mom, res = _muscle_moment(leg, m, t.joint, angles, par[f"{m}.tendon_slack_length_m"], strain, lt)
+            moment = moment + mom
+            if res is not None:
+                res_eqs.append(res)
+                lts.append(lt)
+        if lts:  # eliminate the calf tendon lengths by the implicit function theorem (rootfinder)
+            z = ca.vertcat(*lts)
+            g = ca.Function("g", [z, q, prel], [ca.vertcat(*res_eqs)])
+            solve = ca.rootfinder("solve", "newton", g)
+            zsol = solve(ca.DM.ones(len(lts)) * 1.01, q, prel)
+            mom_f = ca.Function("m", [z, q, prel], [moment])
+            moment = mom_f(zsol, q, prel)
+        jac = ca.Function("j", [q, prel], [ca.jacobian(moment, prel)])
+        for qq in t.angle_rad[::stride]:
+            rows.append(np.asarray(jac(float(qq), np.ones(len(names)))).ravel() / SIGMA_U_NM)
+    j = np.array(rows)
+    fisher = j.T @ j
+    w, vecs = np.linalg.eigh(fisher)
+    keep = w > 1.0 / rel_se_limit**2
+    cov = (vecs[:, keep] / w[keep]) @ vecs[:, keep].T
+    se = np.sqrt(np.maximum(np.diag(cov), 0.0))
+    # a parameter is determined only if it has (almost) no part in the unconstrained directions
+    free_part = np.sqrt(np.sum(vecs[:, ~keep] ** 2, axis=1)) if (~keep).any() else np.zeros(len(names))
+    determined = (se < rel_se_limit) & (free_part < 0.1)
+    combos = []
+    for i in np.flatnonzero(~keep):
+        order = np.argsort(-np.abs(vecs[:, i]))[:4]
+        combos.append({"eigenvalue": float(w[i]), "components": {names[k]: float(vecs[k, i]) for k in order}})
+    return {"determined": [n for n, d in zip(names, determined) if d],
+            "undetermined": [n for n, d in zip(names, determined) if not d],
+            "relative_se": dict(zip(names, se.tolist())),
+            "ci95": {n: [values[k] * (1 - 1.96 * se[k]), values[k] * (1 + 1.96 * se[k])]
+                     for k, n in enumerate(names) if determined[k]},
+            "free_combinations": combos, "rank": int(keep.sum()), "parameters": len(names)}
