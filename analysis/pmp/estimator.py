@@ -253,6 +253,36 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
                      float(sol.value(cost)), int(stats.get("iter_count", -1)), solve_s, status, res_trials)
 
 
+def moment_function(leg: LegMuscles, trial: PmpTrial, parameters: dict[str, float]) -> Any:
+    """CasADi function q ↦ passive muscle moment (N·m) about ``trial``'s joint with ``parameters``
+    (generic values for any not given); the calf tendon lengths are solved by Newton inside it."""
+    import casadi as ca
+
+    q = ca.SX.sym("q")
+    angles = {"hip": trial.fixed_rad.get("hip", 0.0), "knee": trial.fixed_rad.get("knee", 0.0),
+              "ankle": trial.fixed_rad.get("ankle", 0.0), trial.joint: q}
+    moment, res_eqs, lts = 0, [], []
+    for m in MUSCLES:
+        if trial.joint not in leg.paths[m].joints:
+            continue
+        base = leg.params[m]
+        ls = parameters.get(f"{m}.tendon_slack_length_m", base.tendon_slack_length_m)
+        strain = parameters.get(f"{m}.tendon_strain", base.tendon_strain) if m in COMPLIANT else \
+            parameters.get(f"{m}.passive_strain", base.passive_strain)
+        lt = ca.SX.sym(f"lt_{m}") if m in COMPLIANT else None
+        mom, res = _muscle_moment(leg, m, trial.joint, angles, ls, strain, lt)
+        moment = moment + mom
+        if res is not None:
+            res_eqs.append(res)
+            lts.append(lt)
+    if not lts:
+        return ca.Function("moment", [q], [moment])
+    z = ca.vertcat(*lts)
+    solve = ca.rootfinder("solve", "newton", ca.Function("g", [z, q], [ca.vertcat(*res_eqs)]))
+    zsol = solve(ca.DM.ones(len(lts)) * 1.01, q)
+    return ca.Function("moment", [q], [ca.Function("m", [z, q], [moment])(zsol, q)])
+
+
 def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None = None,
                     rel_se_limit: float = 0.035, stride: int = 5) -> dict[str, Any]:
     """Which parameters the trials determine: Fisher information of the torque residuals at the estimate.
