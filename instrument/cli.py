@@ -63,7 +63,47 @@ def build_parser() -> argparse.ArgumentParser:
                      help="trial kind (default: the sidecar's or the recording's)")
     dia.add_argument("--json", action="store_true", help="print the JSON result")
     dia.add_argument("--plot", type=Path, default=None, help="write the diagnosis plot (PNG) here")
+    pmp = kinds.add_parser("pmp", help="passive muscle-tendon parameters from knee and ankle trials (collocation)")
+    pmp.add_argument("trials", nargs="+", help="store trial ids, .h5 trial files or trial CSVs (with sidecars)")
+    pmp.add_argument("--subject", type=Path, default=None, help="subject JSON (mass_kg, shank_length_m, foot_length_m); "
+                     "default: the first sidecar's subject block")
+    pmp.add_argument("--store", type=Path, default=None)
+    pmp.add_argument("--intervals", type=int, default=24, help="collocation intervals per trial")
+    pmp.add_argument("--out", type=Path, default=Path("pmp_report"))
+    pmp.add_argument("--json", action="store_true")
     return parser
+
+
+def cmd_analyze_pmp(args: argparse.Namespace) -> int:
+    from analysis.pmp.report import analyse, subject_from, text, to_json, trial_from_table, write_plots
+    from analysis.trial_csv import read_trial_csv
+
+    from .export import trial_table
+    from .recording import read_trial
+
+    tables = []
+    store = None
+    for spec in args.trials:
+        path = Path(spec)
+        if spec.isdigit() and not path.exists():
+            store = store or _store(args.store, read_only=True)
+            rec = store.trial(int(spec))
+            subj = store.subject(rec.subject_code).as_dict()
+            tables.append(trial_table(read_trial(rec.path), subj))
+        elif path.suffix.lower() in (".h5", ".hdf5"):
+            tables.append(trial_table(read_trial(path)))
+        else:
+            tables.append(read_trial_csv(path))
+    subject_data = json.loads(args.subject.read_text()) if args.subject else (tables[0].sidecar.get("subject") or {})
+    report = analyse([trial_from_table(t) for t in tables], subject_from(subject_data), args.intervals)
+    files = write_plots(report, args.out)
+    if args.json:
+        print(json.dumps(to_json(report), indent=2, default=float))
+    else:
+        print(text(report))
+        for f in files:
+            print(f"wrote {f}")
+    return 0
 
 
 def cmd_diagnose(args: argparse.Namespace) -> int:
@@ -96,6 +136,8 @@ def cmd_analyze(args: argparse.Namespace) -> int:
 
     from .afo import analyze_afo, resolve_trials
 
+    if args.kind == "pmp":
+        return cmd_analyze_pmp(args)
     model = load_jig_model(args.model)
     store = _store(args.store, read_only=True) if any(t.isdigit() and not Path(t).exists() for t in args.trials) else None
     inputs = resolve_trials(args.trials, store, spring=args.spring, spring_n_per_m=args.spring_n_per_m, model=model)

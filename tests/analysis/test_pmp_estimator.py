@@ -72,3 +72,28 @@ def test_forward_dynamics_of_the_true_model_reproduces_the_trial() -> None:
     assert v.angle_rmse_deg < 0.5
     generic = forward_dynamics(trials[1], subject, {})
     assert generic.torque_rmse_nm_per_kg > v.torque_rmse_nm_per_kg
+
+
+def test_instrument_analyze_pmp_on_trial_csvs(tmp_path, capsys) -> None:
+    import json
+
+    from analysis.trial_csv import TrialTable, write_trial_csv
+    from instrument.cli import main
+
+    truth, trials, subject = simulated_subject(21)
+    files = []
+    for t in trials[:2]:
+        table = TrialTable({"time_s": t.time_s, "angle_deg": np.rad2deg(t.angle_rad), "torque_Nm": t.torque_nm,
+                            "velocity_deg_s": np.rad2deg(t.velocity_rad_s)},
+                           {"kind": "knee", "hip_flexion_deg": float(np.rad2deg(t.fixed_rad["hip"])),
+                            "ankle_dorsiflexion_deg": 0.0,
+                            "subject": {"mass_kg": 75.0, "shank_length_m": 0.43, "foot_length_m": 0.26}})
+        files.append(tmp_path / f"{t.name}.csv")
+        write_trial_csv(files[-1], table)
+    assert main(["analyze", "pmp", *map(str, files), "--intervals", "16", "--out", str(tmp_path / "r"), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["identifiability"]["determined"] and out["forward_dynamics"][0]["angle_rmse_deg"] < 1.0
+    assert (tmp_path / "r" / "pmp_fit.png").exists() and (tmp_path / "r" / "pmp_parameters.png").exists()
+    for name in out["identifiability"]["determined"]:
+        muscle, what = name.split(".")
+        assert abs(out["parameters"][name] / getattr(truth.params[muscle], what) - 1) < 0.05, name

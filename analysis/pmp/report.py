@@ -1,0 +1,148 @@
+"""The passive-parameter report: parameter table with intervals, stiffness table, forward-dynamics RMSE, plots."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..trial_csv import TrialTable
+from ..errors import InputError
+from .estimator import PmpResult, PmpTrial, Subject, estimate, identifiability
+from .muscles import COMPLIANT, LegMuscles, scale_for_subject
+from .stiffness import achilles_stiffness_kn_per_m, muscle_stiffness_n_per_m, tendon_stiffness_n_per_m
+from .verify import forward_dynamics
+
+
+def trial_from_table(table: TrialTable) -> PmpTrial:
+    """A knee or ankle trial CSV (with its sidecar) as an estimator trial; the CSV torque is the dynamometer's u."""
+    side = table.sidecar
+    kind = side.get("kind")
+    if kind not in ("knee", "ankle"):
+        raise InputError(f"passive parameters come from knee or ankle trials, not {kind!r}")
+    fixed = {"hip": math.radians(float(side.get("hip_flexion_deg", 90.0)))}
+    if kind == "knee":
+        fixed["ankle"] = math.radians(float(side.get("ankle_dorsiflexion_deg") or 0.0))
+    else:
+        fixed["knee"] = math.radians(float(side.get("knee_flexion_deg") or 0.0))
+    t = table.time_s
+    q = np.deg2rad(table.angle_deg)
+    v = np.deg2rad(table.columns["velocity_deg_s"]) if "velocity_deg_s" in table.columns else np.gradient(q, t)
+    name = f"{kind} " + (f"hip {side.get('hip_flexion_deg')}°" if kind == "knee" else f"knee {side.get('knee_flexion_deg')}°")
+    return PmpTrial(kind, fixed, t, q, v, table.torque_nm, name)
+
+
+def subject_from(data: dict[str, Any]) -> Subject:
+    return Subject(float(data.get("mass_kg") or 75.0), float(data.get("shank_length_m") or 0.42),
+                   float(data.get("foot_length_m") or 0.26))
+
+
+def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24) -> dict[str, Any]:
+    """Fit, identifiability, physiological stiffness of the determined parameters, and forward dynamics."""
+    leg = LegMuscles(length_scale=scale_for_subject(subject.shank_length_m))
+    res = estimate(trials, subject, leg=leg, intervals=intervals)
+    idf = identifiability(res, trials, subject, leg=leg)
+    stiff: dict[str, Any] = {"tendon_kN_per_m": {}, "muscle_N_per_m": {}}
+    tendons = {}
+    for name in idf["determined"]:
+        m, what = name.split(".")
+        p = leg.paths[m]
+        if what == "tendon_strain":
+            ls = res.parameters.get(f"{m}.tendon_slack_length_m", p.tendon_slack_length_m)
+            tendons[m] = tendon_stiffness_n_per_m(p.max_isometric_force_n, ls, res.parameters[name])
+            stiff["tendon_kN_per_m"][m] = tendons[m] / 1e3
+        elif what == "passive_strain":
+            stiff["muscle_N_per_m"][m] = muscle_stiffness_n_per_m(p.max_isometric_force_n, leg.optimal_fiber_length_m(m),
+                                                                 res.parameters[name])
+    if all(m in tendons for m in COMPLIANT):
+        stiff["achilles_kN_per_m"] = achilles_stiffness_kn_per_m(tendons)
+    slack_norm = {n.split(".")[0]: v / subject.shank_length_m for n, v in res.parameters.items()
+                  if n.endswith("tendon_slack_length_m") and n in idf["determined"]}
+    fd = [forward_dynamics(t, subject, res.parameters, leg=leg) for t in trials]
+    return {"result": res, "identifiability": idf, "stiffness": stiff, "slack_per_shank_length": slack_norm,
+            "forward_dynamics": fd}
+
+
+def text(report: dict[str, Any]) -> str:
+    res: PmpResult = report["result"]
+    idf = report["identifiability"]
+    lines = [f"fit: {res.status}, {res.iterations} iterations, {res.solve_s:.1f} s, cost {res.cost:.3f}",
+             f"{'parameter':<34}{'generic':>9}{'estimate':>10}   95 % interval / status"]
+    for n, v in res.parameters.items():
+        if n in idf["determined"]:
+            lo, hi = idf["ci95"][n]
+            status = f"[{lo:.4g}, {hi:.4g}]"
+        else:
+            status = "not determined by these trials (shown at the fit's value, not a measurement)"
+        lines.append(f"{n:<34}{res.generic[n]:>9.4g}{v:>10.4g}   {status}")
+    for c in idf["free_combinations"][:4]:
+        comp = " ".join(f"{w:+.2f}·{k}" for k, w in c["components"].items())
+        lines.append(f"  free combination: {comp}")
+    st = report["stiffness"]
+    for m, k in st["tendon_kN_per_m"].items():
+        lines.append(f"tendon stiffness {m}: {k:.0f} kN/m")
+    if "achilles_kN_per_m" in st:
+        lines.append(f"Achilles (calf tendons in parallel): {st['achilles_kN_per_m']:.0f} kN/m")
+    for m, k in st["muscle_N_per_m"].items():
+        lines.append(f"muscle stiffness {m}: {k:.0f} N/m")
+    for v in report["forward_dynamics"]:
+        lines.append(f"forward dynamics {v.name}: angle RMSE {v.angle_rmse_deg:.2f}°, torque RMSE "
+                     f"{v.torque_rmse_nm_per_kg:.4f} N·m/kg")
+    return "\n".join(lines)
+
+
+def to_json(report: dict[str, Any]) -> dict[str, Any]:
+    res: PmpResult = report["result"]
+    return {"parameters": res.parameters, "generic": res.generic, "lower": res.lower, "upper": res.upper,
+            "cost": res.cost, "iterations": res.iterations, "solve_s": res.solve_s,
+            "identifiability": report["identifiability"], "stiffness": report["stiffness"],
+            "slack_per_shank_length": report["slack_per_shank_length"],
+            "forward_dynamics": [{"trial": v.name, "angle_rmse_deg": v.angle_rmse_deg,
+                                  "torque_rmse_Nm_per_kg": v.torque_rmse_nm_per_kg} for v in report["forward_dynamics"]]}
+
+
+def write_plots(report: dict[str, Any], out_dir: str | Path) -> list[Path]:
+    """Measured against simulated torque and angle per trial; parameters against the generic model."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    res: PmpResult = report["result"]
+    n = len(res.trials)
+    fig = Figure(figsize=(4.5 * n, 6.5), layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(2, n, squeeze=False)
+    for i, (tr, fd) in enumerate(zip(res.trials, report["forward_dynamics"])):
+        a, b = axes[0, i], axes[1, i]
+        a.plot(np.rad2deg(tr["measured_angle_rad"]), tr["measured_torque_nm"], ".", ms=2, color="0.5", label="measured")
+        a.plot(np.rad2deg(tr["angle_rad"]), tr["torque_nm"], color="C0", label="collocation fit")
+        a.set_title(tr["name"])
+        a.set_xlabel("angle (°)")
+        a.set_ylabel("torque (N·m)")
+        a.legend(fontsize=7)
+        b.plot(fd.time_s, np.rad2deg(fd.simulated_angle_rad), color="C1", label="forward dynamics")
+        b.set_xlabel("time (s)")
+        b.set_ylabel("angle (°)")
+        b.legend(fontsize=7)
+    files = [out / "pmp_fit.png"]
+    fig.savefig(files[0], dpi=100)
+    fig2 = Figure(figsize=(10, 4), layout="constrained")
+    FigureCanvasAgg(fig2)
+    ax = fig2.subplots()
+    names = list(res.parameters)
+    ratio = [res.parameters[k] / res.generic[k] for k in names]
+    colors = ["C0" if k in report["identifiability"]["determined"] else "0.75" for k in names]
+    ax.bar(range(len(names)), ratio, color=colors)
+    ax.axhline(1.0, color="k", lw=0.8)
+    ax.set_xticks(range(len(names)), [k.replace(".tendon_slack_length_m", " Ls").replace(".passive_strain", " ε0")
+                                      .replace(".tendon_strain", " εT0") for k in names], rotation=70, fontsize=7)
+    ax.set_ylabel("estimate / generic (grey: not determined)")
+    files.append(out / "pmp_parameters.png")
+    fig2.savefig(files[1], dpi=100)
+    (out / "pmp_report.json").write_text(json.dumps(to_json(report), indent=2, default=float))
+    files.append(out / "pmp_report.json")
+    return files
