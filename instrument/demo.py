@@ -221,6 +221,31 @@ def diagnose_recordings(out: Path) -> list[dict[str, Any]]:
     return found
 
 
+def passive_parameters(out: Path) -> tuple[dict[str, Any], bool]:
+    """Fit the passive muscle-tendon parameters to the lab day's three knee trials (hip 90/55/15°)."""
+    from analysis.errors import AnalysisError
+    from analysis.pmp.report import analyse, subject_from, text, to_json, trial_from_table, write_plots
+
+    from .export import trial_table
+    from .recording import read_trial
+    from .store import SessionStore
+
+    store = SessionStore(out / "store", read_only=True)
+    tables = [trial_table(read_trial(t.path), store.subject(t.subject_code).as_dict())
+              for t in store.trials() if t.protocol == "knee" and t.status == "recorded"]
+    store.close()
+    print(f"\nPassive muscle-tendon parameters from the {len(tables)} recorded knee trials (direct collocation, "
+          "CasADi; the simulated subject's moments are Riener & Edrich's, not the muscle model's) ...")
+    try:
+        report = analyse([trial_from_table(t) for t in tables], subject_from(tables[0].sidecar.get("subject") or {}))
+    except AnalysisError as err:
+        print(f"  PROBLEM: {err}")
+        return {"error": str(err)}, False
+    print("  " + text(report).replace("\n", "\n  "))
+    write_plots(report, out / "pmp")
+    return to_json(report), True
+
+
 def main(seconds: float = 4.0, out: Path | None = None, faults: bool = True, quick: bool = True) -> int:
     """Run the demo; returns a process exit code (0 when every device streamed cleanly)."""
     print(f"Simulated lab: force plate (serial framing over TCP), dynamometer (CAN, virtual bus), "
@@ -246,7 +271,9 @@ def main(seconds: float = 4.0, out: Path | None = None, faults: bool = True, qui
         out.mkdir(parents=True, exist_ok=True)
         report["lab_day"], day_ok = lab_day(out, quick)
         report["afo"], afo_ok = afo_experiment(out, out / "store")
+        report["pmp"], pmp_ok = passive_parameters(out)
         report["diagnosis"] = diagnose_recordings(out)
+        ok = ok and pmp_ok
         ok = ok and day_ok and afo_ok
         (out / "demo.json").write_text(json.dumps(report, indent=2, default=float))
         print(f"\nwrote {out / 'demo.json'}")

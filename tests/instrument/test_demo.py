@@ -44,3 +44,6 @@ def test_demo_records_a_lab_day_into_a_store(tmp_path: Path) -> None:
     assert explained[1]["error_raw_pct"] > 0 > explained[3]["error_raw_pct"]
     assert {d["protocol"] for d in report["diagnosis"]} == {"aads", "knee", "ankle", "replica"}
     assert all("cause" in d and "candidates" in d for d in report["diagnosis"])
+    pmp = report["pmp"]
+    assert "parameters" in pmp and pmp["identifiability"]["undetermined"]  # Riener's moments: the report says what is free
+    assert len(pmp["forward_dynamics"]) == 3
