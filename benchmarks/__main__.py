@@ -9,7 +9,7 @@ import sys
 from pathlib import Path
 
 BENCHMARKS = {"drivers": "benchmarks.drivers", "recording": "benchmarks.recording", "aads": "benchmarks.aads",
-              "diagnosis": "benchmarks.diagnosis"}
+              "diagnosis": "benchmarks.diagnosis", "pmp": "benchmarks.pmp"}
 
 
 def main(argv: list[str] | None = None) -> int:
