@@ -197,26 +197,34 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
         opti.set_initial(v, vm)
         opti.set_initial(u, um / u_scale)
         calf = [m for m in COMPLIANT if t.joint in leg.paths[m].joints]
-        lt = {m: opti.variable(n_pts) for m in calf}
-        for m in calf:
-            opti.set_initial(lt[m], 1.01)
-            opti.subject_to(opti.bounded(0.99, lt[m], 1.2))
+        lt = opti.variable(len(calf), n_pts) if calf else None
+        if calf:
+            opti.set_initial(lt, 1.01)
+            opti.subject_to(opti.bounded(0.99, lt, 1.2))
         inertia = subject.inertia_kgm2(t.joint)
-        acc = []
-        for k in range(n_pts):
-            angles = {"hip": t.fixed_rad.get("hip", 0.0), "knee": t.fixed_rad.get("knee", 0.0),
-                      "ankle": t.fixed_rad.get("ankle", 0.0), t.joint: q[k]}
-            moment = subject.gravity_moment_nm(t.joint, q[k], t.fixed_rad, ca.cos)
-            for m in MUSCLES:
-                if t.joint not in leg.paths[m].joints:
-                    continue
-                strain = par.get(f"{m}.tendon_strain") if m in COMPLIANT else par.get(f"{m}.passive_strain")
-                mom, res = _muscle_moment(leg, m, t.joint, angles, par[f"{m}.tendon_slack_length_m"], strain,
-                                          lt[m][k] if m in calf else None)
-                moment = moment + mom
-                if res is not None:
-                    opti.subject_to(res == 0)
-            acc.append((u[k] * u_scale + moment) / inertia)
+        # the point dynamics as one SX function, mapped over every collocation point (a small MX graph)
+        qs, us, ps = ca.SX.sym("q"), ca.SX.sym("u"), ca.SX.sym("p", n_par)
+        lts = ca.SX.sym("lt", len(calf))
+        par_s = {n: pset.generic[i] * ps[i] for i, n in enumerate(pset.names)}
+        angles = {"hip": t.fixed_rad.get("hip", 0.0), "knee": t.fixed_rad.get("knee", 0.0),
+                  "ankle": t.fixed_rad.get("ankle", 0.0), t.joint: qs}
+        moment = subject.gravity_moment_nm(t.joint, qs, t.fixed_rad, ca.cos)
+        residuals = []
+        for m in MUSCLES:
+            if t.joint not in leg.paths[m].joints:
+                continue
+            strain = par_s.get(f"{m}.tendon_strain") if m in COMPLIANT else par_s.get(f"{m}.passive_strain")
+            mom, res = _muscle_moment(leg, m, t.joint, angles, par_s[f"{m}.tendon_slack_length_m"], strain,
+                                      lts[calf.index(m)] if m in calf else None)
+            moment = moment + mom
+            if res is not None:
+                residuals.append(res)
+        point = ca.Function("point", [qs, us, ps, lts], [(us * u_scale + moment) / inertia, ca.vertcat(*residuals)])
+        acc_row, res_rows = point.map(n_pts)(q.T, u.T, ca.repmat(p_scaled, 1, n_pts),
+                                              lt if calf else ca.DM.zeros(0, n_pts))
+        if calf:
+            opti.subject_to(ca.vec(res_rows) == 0)
+        acc = [acc_row[k] for k in range(n_pts)]
         # Hermite–Simpson: points 0, 2, 4, … are nodes, odd points are interval midpoints
         for i in range(intervals):
             a, mid, b = 2 * i, 2 * i + 1, 2 * i + 2
