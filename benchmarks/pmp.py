@@ -18,37 +18,9 @@ from typing import Any
 
 import numpy as np
 
-from analysis.pmp.estimator import PmpTrial, Subject, estimate, free_parameters, identifiability
-from analysis.pmp.muscles import COMPLIANT, LegMuscles, MuscleParameters
-
-
-def simulated_subject(seed: int = 1) -> tuple[LegMuscles, list[PmpTrial], list[PmpTrial], Subject]:
-    rng = np.random.default_rng(seed)
-    truth = LegMuscles()
-    probe = [PmpTrial(j, {}, np.arange(3.0), np.zeros(3), np.zeros(3), np.zeros(3)) for j in ("knee", "ankle")]
-    ps = free_parameters(truth, probe)
-    upper = {n.split(".")[0]: u for n, u in zip(ps.names, ps.upper) if n.endswith("slack_length_m")}
-    for m, p in list(truth.params.items()):
-        ls = min(p.tendon_slack_length_m * rng.uniform(0.96, 1.02), 0.99 * upper.get(m, np.inf))
-        eps = p.passive_strain if m in COMPLIANT else p.passive_strain * rng.uniform(0.9, 1.1)
-        truth.params[m] = MuscleParameters(ls, eps, p.tendon_strain * (rng.uniform(0.85, 1.15) if m in COMPLIANT else 1))
-    subject = Subject()
-    knee, ankle = [], []
-    for hip in (90.0, 55.0, 15.0):
-        t = np.arange(0.0, 18.0, 0.05)
-        q = np.deg2rad(5.0 * t)
-        fixed = {"hip": np.deg2rad(hip), "ankle": 0.0}
-        mom = np.array([truth.joint_moment_nm("knee", hip=fixed["hip"], knee=x, ankle=0.0) for x in q])
-        u = -(mom + subject.gravity_moment_nm("knee", q, fixed)) + rng.normal(0.0, 0.3, t.size)
-        knee.append(PmpTrial("knee", fixed, t, q, np.full(t.size, np.deg2rad(5.0)), u, f"knee hip{hip:g}"))
-    for kn in (0.0, 45.0, 90.0):
-        t = np.arange(0.0, 9.0, 0.05)
-        q = np.deg2rad(15.0 - 5.0 * t)
-        fixed = {"hip": np.deg2rad(90.0), "knee": np.deg2rad(kn)}
-        mom = np.array([truth.joint_moment_nm("ankle", hip=fixed["hip"], knee=fixed["knee"], ankle=x) for x in q])
-        u = -(mom + subject.gravity_moment_nm("ankle", q, fixed)) + rng.normal(0.0, 0.2, t.size)
-        ankle.append(PmpTrial("ankle", fixed, t, q, np.full(t.size, np.deg2rad(-5.0)), u, f"ankle knee{kn:g}"))
-    return truth, knee, ankle, subject
+from analysis.pmp.estimator import estimate, identifiability
+from analysis.pmp.muscles import LegMuscles
+from analysis.pmp.synthetic import simulated_subject
 
 
 def _recovery(truth: LegMuscles, res: Any, idf: dict[str, Any]) -> float:
@@ -59,7 +31,8 @@ def _recovery(truth: LegMuscles, res: Any, idf: dict[str, Any]) -> float:
 
 def run(quick: bool = False) -> dict[str, Any]:
     intervals = 16 if quick else 30
-    truth, knee, ankle, subject = simulated_subject()
+    truth, trials, subject = simulated_subject(1, ("knee", "ankle"))
+    knee, ankle = [t for t in trials if t.joint == "knee"], [t for t in trials if t.joint == "ankle"]
     t0 = time.perf_counter()
     full = estimate(knee + ankle, subject, intervals=intervals)
     full_s = time.perf_counter() - t0

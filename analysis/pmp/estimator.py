@@ -298,7 +298,10 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     The torque residuals (σ_u = 0.5 N·m) at the measured angles are linearised in the relative
     parameters (Gauss–Newton: F = JᵀJ, J from CasADi's exact derivatives). A parameter is
     *determined* when its standard error, from the pseudo-inverse of F restricted to the
-    directions the data constrain, is below ``rel_se_limit`` (3.5 %, the dissertation's accuracy);
+    directions the data constrain, is below ``rel_se_limit`` (3.5 %, the dissertation's accuracy),
+    no parameter of its muscle is at a bound, and every parameter of the muscle's synergists (other
+    muscles crossing the same joints with the same moment-arm signs) is determined too — otherwise
+    they can share the load in ways the local curvature does not see;
     the eigenvectors of F with eigenvalues below 1/limit² are the combinations the data leave free,
     listed with their largest components.
     """
@@ -346,6 +349,27 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     # a parameter is determined only if it has (almost) no part in the unconstrained directions
     free_part = np.sqrt(np.sum(vecs[:, ~keep] ** 2, axis=1)) if (~keep).any() else np.zeros(len(names))
     determined = (se < rel_se_limit) & (free_part < 0.1)
+    # local information is not global identifiability: a parameter at its bound, or one whose
+    # synergists (same joints, same moment-arm signs) are not all determined, can trade load with
+    # them; report such muscles' parameters as undetermined rather than trust the local curvature
+    at_bound = [n for n in names if result.parameters[n] <= result.lower[n] * (1 + 1e-3)
+                or result.parameters[n] >= result.upper[n] * (1 - 1e-3)]
+    mid = {"hip": np.deg2rad(50.0), "knee": np.deg2rad(45.0), "ankle": 0.0}
+
+    def signature(m: str) -> tuple:
+        return tuple((j, bool(np.sign(leg.moment_arm_m(m, j, **mid)) > 0)) for j in leg.paths[m].joints)
+
+    muscles = sorted({n.split(".")[0] for n in names})
+    det = dict(zip(names, determined))
+    pinned = {n.split(".")[0] for n in at_bound}
+    undetermined_muscles = {n.split(".")[0] for n in names if not det[n]}
+    for m in muscles:
+        others = [g for g in muscles if g != m and signature(g) == signature(m)]
+        if m in pinned or any(g in undetermined_muscles for g in others):
+            for n in names:
+                if n.split(".")[0] == m:
+                    det[n] = False
+    determined = np.array([det[n] for n in names])
     combos = []
     for i in np.flatnonzero(~keep):
         order = np.argsort(-np.abs(vecs[:, i]))[:4]
@@ -355,4 +379,4 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
             "relative_se": dict(zip(names, se.tolist())),
             "ci95": {n: [values[k] * (1 - 1.96 * se[k]), values[k] * (1 + 1.96 * se[k])]
                      for k, n in enumerate(names) if determined[k]},
-            "free_combinations": combos, "rank": int(keep.sum()), "parameters": len(names)}
+            "free_combinations": combos, "rank": int(keep.sum()), "parameters": len(names), "at_bound": at_bound}
