@@ -9,7 +9,8 @@ import sys
 from pathlib import Path
 
 BENCHMARKS = {"drivers": "benchmarks.drivers", "recording": "benchmarks.recording", "aads": "benchmarks.aads",
-              "diagnosis": "benchmarks.diagnosis", "pmp": "benchmarks.pmp"}
+              "diagnosis": "benchmarks.diagnosis", "pmp": "benchmarks.pmp",
+              "relaxation": "benchmarks.relaxation"}
 
 
 def main(argv: list[str] | None = None) -> int:
