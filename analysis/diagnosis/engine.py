@@ -84,12 +84,11 @@ def fit_cause(prep: Prepared, cause: Cause, mask: np.ndarray | None = None, refi
         (list(itertools.product(*grids)) if grids else [()])
     best: tuple[float, tuple[float, ...]] = (math.inf, ())
     for nl in combos:
-        rss = _solve(prep, cause, tuple(float(v) for v in nl), mask)[0]
-        # compare as mean square: a delay drops the first samples
-        n_used = int(np.sum(mask & cause.columns(prep, tuple(float(v) for v in nl))[2])) if cause.name == "time_delay" else 1
-        score = rss / max(n_used, 1)
+        nl = tuple(float(v) for v in nl)
+        rss, _, _, _, use = _solve(prep, cause, nl, mask)
+        score = rss / max(int(use.sum()), 1)  # mean square: a delay drops the first samples
         if score < best[0]:
-            best = (score, tuple(float(v) for v in nl))
+            best = (score, nl)
     nl = best[1]
     if refine and not isinstance(grids, np.ndarray) and len(grids) == 1:
         g = grids[0]

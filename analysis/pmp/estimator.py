@@ -38,7 +38,6 @@ SIGMA_Q_RAD = np.deg2rad(0.5)
 SIGMA_V_RAD_S = np.deg2rad(2.0)
 SIGMA_U_NM = 0.5
 REGULARISATION = 1e-3
-KNEE_MUSCLES = tuple(m for m in MUSCLES if m not in ("soleus",))
 
 
 @dataclass
@@ -154,6 +153,43 @@ def _muscle_moment(leg: LegMuscles, m: str, joint: str, q: dict[str, Any], ls: A
     return r * p.max_isometric_force_n * passive_fiber_force(lm / lo, strain) * along / lm, None
 
 
+def _muscles_moment(leg: LegMuscles, trial: PmpTrial, q: Any, par: dict[str, Any]) -> tuple[Any, list[Any], list[Any]]:
+    """Passive moment (CasADi) of the muscles crossing ``trial``'s joint at angle ``q``, the calf
+    equilibrium residuals and their tendon-length symbols; ``par`` (numbers or symbols) overrides
+    the leg's own parameters by name."""
+    import casadi as ca
+
+    angles = {"hip": trial.fixed_rad.get("hip", 0.0), "knee": trial.fixed_rad.get("knee", 0.0),
+              "ankle": trial.fixed_rad.get("ankle", 0.0), trial.joint: q}
+    moment, residuals, lts = 0, [], []
+    for m in MUSCLES:
+        if trial.joint not in leg.paths[m].joints:
+            continue
+        base = leg.params[m]
+        ls = par.get(f"{m}.tendon_slack_length_m", base.tendon_slack_length_m)
+        strain = par.get(f"{m}.tendon_strain", base.tendon_strain) if m in COMPLIANT else \
+            par.get(f"{m}.passive_strain", base.passive_strain)
+        lt = ca.SX.sym(f"lt_{m}") if m in COMPLIANT else None
+        mom, res = _muscle_moment(leg, m, trial.joint, angles, ls, strain, lt)
+        moment = moment + mom
+        if res is not None:
+            residuals.append(res)
+            lts.append(lt)
+    return moment, residuals, lts
+
+
+def _eliminate_tendons(moment: Any, residuals: list[Any], lts: list[Any], args: list[Any]) -> Any:
+    """The moment with the calf tendon lengths solved from their equilibrium (Newton, implicit function)."""
+    import casadi as ca
+
+    if not lts:
+        return moment
+    z = ca.vertcat(*lts)
+    solve = ca.rootfinder("solve", "newton", ca.Function("g", [z, *args], [ca.vertcat(*residuals)]))
+    zsol = solve(ca.DM.ones(len(lts)) * 1.01, *args)
+    return ca.Function("m", [z, *args], [moment])(zsol, *args)
+
+
 def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None = None, intervals: int = 40,
              max_iter: int = 300, initial: dict[str, float] | None = None) -> PmpResult:
     """Fit the passive parameters shared by ``trials`` (all at once).
@@ -196,29 +232,17 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
         opti.set_initial(q, qm)
         opti.set_initial(v, vm)
         opti.set_initial(u, um / u_scale)
-        calf = [m for m in COMPLIANT if t.joint in leg.paths[m].joints]
+        inertia = subject.inertia_kgm2(t.joint)
+        # the point dynamics as one SX function, mapped over every collocation point (a small MX graph)
+        qs, us, ps = ca.SX.sym("q"), ca.SX.sym("u"), ca.SX.sym("p", n_par)
+        par_s = {n: pset.generic[i] * ps[i] for i, n in enumerate(pset.names)}
+        muscles, residuals, calf = _muscles_moment(leg, t, qs, par_s)
+        moment = subject.gravity_moment_nm(t.joint, qs, t.fixed_rad, ca.cos) + muscles
+        lts = ca.vertcat(*calf) if calf else ca.SX.sym("lt", 0)
         lt = opti.variable(len(calf), n_pts) if calf else None
         if calf:
             opti.set_initial(lt, 1.01)
             opti.subject_to(opti.bounded(0.99, lt, 1.2))
-        inertia = subject.inertia_kgm2(t.joint)
-        # the point dynamics as one SX function, mapped over every collocation point (a small MX graph)
-        qs, us, ps = ca.SX.sym("q"), ca.SX.sym("u"), ca.SX.sym("p", n_par)
-        lts = ca.SX.sym("lt", len(calf))
-        par_s = {n: pset.generic[i] * ps[i] for i, n in enumerate(pset.names)}
-        angles = {"hip": t.fixed_rad.get("hip", 0.0), "knee": t.fixed_rad.get("knee", 0.0),
-                  "ankle": t.fixed_rad.get("ankle", 0.0), t.joint: qs}
-        moment = subject.gravity_moment_nm(t.joint, qs, t.fixed_rad, ca.cos)
-        residuals = []
-        for m in MUSCLES:
-            if t.joint not in leg.paths[m].joints:
-                continue
-            strain = par_s.get(f"{m}.tendon_strain") if m in COMPLIANT else par_s.get(f"{m}.passive_strain")
-            mom, res = _muscle_moment(leg, m, t.joint, angles, par_s[f"{m}.tendon_slack_length_m"], strain,
-                                      lts[calf.index(m)] if m in calf else None)
-            moment = moment + mom
-            if res is not None:
-                residuals.append(res)
         point = ca.Function("point", [qs, us, ps, lts], [(us * u_scale + moment) / inertia, ca.vertcat(*residuals)])
         acc_row, res_rows = point.map(n_pts)(q.T, u.T, ca.repmat(p_scaled, 1, n_pts),
                                               lt if calf else ca.DM.zeros(0, n_pts))
@@ -267,28 +291,8 @@ def moment_function(leg: LegMuscles, trial: PmpTrial, parameters: dict[str, floa
     import casadi as ca
 
     q = ca.SX.sym("q")
-    angles = {"hip": trial.fixed_rad.get("hip", 0.0), "knee": trial.fixed_rad.get("knee", 0.0),
-              "ankle": trial.fixed_rad.get("ankle", 0.0), trial.joint: q}
-    moment, res_eqs, lts = 0, [], []
-    for m in MUSCLES:
-        if trial.joint not in leg.paths[m].joints:
-            continue
-        base = leg.params[m]
-        ls = parameters.get(f"{m}.tendon_slack_length_m", base.tendon_slack_length_m)
-        strain = parameters.get(f"{m}.tendon_strain", base.tendon_strain) if m in COMPLIANT else \
-            parameters.get(f"{m}.passive_strain", base.passive_strain)
-        lt = ca.SX.sym(f"lt_{m}") if m in COMPLIANT else None
-        mom, res = _muscle_moment(leg, m, trial.joint, angles, ls, strain, lt)
-        moment = moment + mom
-        if res is not None:
-            res_eqs.append(res)
-            lts.append(lt)
-    if not lts:
-        return ca.Function("moment", [q], [moment])
-    z = ca.vertcat(*lts)
-    solve = ca.rootfinder("solve", "newton", ca.Function("g", [z, q], [ca.vertcat(*res_eqs)]))
-    zsol = solve(ca.DM.ones(len(lts)) * 1.01, q)
-    return ca.Function("moment", [q], [ca.Function("m", [z, q], [moment])(zsol, q)])
+    moment, residuals, lts = _muscles_moment(leg, trial, q, parameters)
+    return ca.Function("moment", [q], [_eliminate_tendons(moment, residuals, lts, [q])])
 
 
 def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None = None,
@@ -315,28 +319,7 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     q = ca.SX.sym("q")
     rows = []
     for t in trials:
-        angles = {"hip": t.fixed_rad.get("hip", 0.0), "knee": t.fixed_rad.get("knee", 0.0),
-                  "ankle": t.fixed_rad.get("ankle", 0.0), t.joint: q}
-        moment, res_eqs, lts = 0, [], []
-        for m in MUSCLES:
-            if t.joint not in leg.paths[m].joints:
-                continue
-            if f"{m}.tendon_slack_length_m" not in par:
-                continue
-            strain = par.get(f"{m}.tendon_strain") if m in COMPLIANT else par.get(f"{m}.passive_strain")
-            lt = ca.SX.sym(f"lt_{m}") if m in COMPLIANT else None
-            mom, res = _muscle_moment(leg, m, t.joint, angles, par[f"{m}.tendon_slack_length_m"], strain, lt)
-            moment = moment + mom
-            if res is not None:
-                res_eqs.append(res)
-                lts.append(lt)
-        if lts:  # eliminate the calf tendon lengths by the implicit function theorem (rootfinder)
-            z = ca.vertcat(*lts)
-            g = ca.Function("g", [z, q, prel], [ca.vertcat(*res_eqs)])
-            solve = ca.rootfinder("solve", "newton", g)
-            zsol = solve(ca.DM.ones(len(lts)) * 1.01, q, prel)
-            mom_f = ca.Function("m", [z, q, prel], [moment])
-            moment = mom_f(zsol, q, prel)
+        moment = _eliminate_tendons(*_muscles_moment(leg, t, q, par), [q, prel])
         jac = ca.Function("j", [q, prel], [ca.jacobian(moment, prel)])
         for qq in t.angle_rad[::stride]:
             rows.append(np.asarray(jac(float(qq), np.ones(len(names)))).ravel() / SIGMA_U_NM)

@@ -87,4 +87,4 @@ def fit_errors() -> dict[str, dict[str, float]]:
     return {m: dict(p.fit) for m, p in load_paths().items()}
 
 
-__all__ = ["MUSCLES", "JOINTS", "MusclePath", "load_paths", "fit_errors", "np"]
+__all__ = ["MUSCLES", "JOINTS", "MusclePath", "load_paths", "fit_errors"]

@@ -12,7 +12,6 @@ against the measured torque, per body mass (N·m/kg), as the dissertation's Tabl
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -57,4 +56,4 @@ def forward_dynamics(trial: PmpTrial, subject: Subject, parameters: dict[str, fl
                         float(np.sqrt(np.mean((model_u - trial.torque_nm) ** 2)) / subject.mass_kg))
 
 
-__all__ = ["forward_dynamics", "Verification", "DAMPING_NM_S_PER_RAD", "Any"]
+__all__ = ["forward_dynamics", "Verification", "DAMPING_NM_S_PER_RAD"]
