@@ -71,29 +71,61 @@ def build_parser() -> argparse.ArgumentParser:
     pmp.add_argument("--intervals", type=int, default=24, help="collocation intervals per trial")
     pmp.add_argument("--out", type=Path, default=Path("pmp_report"))
     pmp.add_argument("--json", action="store_true")
+    rep = kinds.add_parser("replica", help="spring stiffness and rest length of the replica leg from its static holds")
+    rep.add_argument("trials", nargs="+", help="store trial ids, .h5 trial files or replica trial CSVs (with sidecars)")
+    rep.add_argument("--model", type=Path, default=None, help="replica-leg drawing (TOML; default: the built-in rig)")
+    rep.add_argument("--store", type=Path, default=None)
+    rep.add_argument("--out", type=Path, default=Path("replica_report"))
+    rep.add_argument("--json", action="store_true")
     return parser
 
 
-def cmd_analyze_pmp(args: argparse.Namespace) -> int:
-    from analysis.pmp.report import analyse, subject_from, text, to_json, trial_from_table, write_plots
+def _tables(specs: list[str], store_path: Path | None) -> tuple[list, list[dict]]:  # noqa: ANN001
+    """Trial tables (with the subject) and the recorded metadata (empty for CSVs) of store ids, .h5 files or CSVs."""
     from analysis.trial_csv import read_trial_csv
 
     from .export import trial_table
     from .recording import read_trial
 
-    tables = []
-    store = None
-    for spec in args.trials:
+    tables, metas, store = [], [], None
+    for spec in specs:
         path = Path(spec)
         if spec.isdigit() and not path.exists():
-            store = store or _store(args.store, read_only=True)
+            store = store or _store(store_path, read_only=True)
             rec = store.trial(int(spec))
-            subj = store.subject(rec.subject_code).as_dict()
-            tables.append(trial_table(read_trial(rec.path), subj))
+            trial = read_trial(rec.path)
+            tables.append(trial_table(trial, store.subject(rec.subject_code).as_dict()))
+            metas.append(trial.metadata)
         elif path.suffix.lower() in (".h5", ".hdf5"):
-            tables.append(trial_table(read_trial(path)))
+            trial = read_trial(path)
+            tables.append(trial_table(trial))
+            metas.append(trial.metadata)
         else:
             tables.append(read_trial_csv(path))
+            metas.append({})
+    return tables, metas
+
+
+def cmd_analyze_replica(args: argparse.Namespace) -> int:
+    from .replica import analyze_replica
+
+    tables, metas = _tables(args.trials, args.store)
+    result, truth, files = analyze_replica(tables, metas, args.model, args.out)
+    from analysis.pmp.replica import text, to_json
+
+    if args.json:
+        print(json.dumps(to_json(result, truth), indent=2, default=float))
+    else:
+        print(text(result, truth))
+        for f in files:
+            print(f"wrote {f}")
+    return 0
+
+
+def cmd_analyze_pmp(args: argparse.Namespace) -> int:
+    from analysis.pmp.report import analyse, subject_from, text, to_json, trial_from_table, write_plots
+
+    tables, _ = _tables(args.trials, args.store)
     subject_data = json.loads(args.subject.read_text()) if args.subject else (tables[0].sidecar.get("subject") or {})
     report = analyse([trial_from_table(t) for t in tables], subject_from(subject_data), args.intervals)
     files = write_plots(report, args.out)
@@ -138,6 +170,8 @@ def cmd_analyze(args: argparse.Namespace) -> int:
 
     if args.kind == "pmp":
         return cmd_analyze_pmp(args)
+    if args.kind == "replica":
+        return cmd_analyze_replica(args)
     model = load_jig_model(args.model)
     store = _store(args.store, read_only=True) if any(t.isdigit() and not Path(t).exists() for t in args.trials) else None
     inputs = resolve_trials(args.trials, store, spring=args.spring, spring_n_per_m=args.spring_n_per_m, model=model)

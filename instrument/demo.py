@@ -246,6 +246,31 @@ def passive_parameters(out: Path) -> tuple[dict[str, Any], bool]:
     return to_json(report), True
 
 
+def replica_leg(out: Path) -> tuple[dict[str, Any], bool]:
+    """Fit the replica leg's four springs to the lab day's replica trial and compare with the rig's truth."""
+    from analysis.errors import AnalysisError
+    from analysis.pmp.replica import text, to_json
+
+    from .export import trial_table
+    from .recording import read_trial
+    from .replica import analyze_replica
+    from .store import SessionStore
+
+    store = SessionStore(out / "store", read_only=True)
+    trials = [read_trial(t.path) for t in store.trials() if t.protocol == "replica" and t.status == "recorded"]
+    store.close()
+    print(f"\nReplica leg: four springs (BFLH, BFSH, VASINT, RECFEM) from {len(trials)} trial(s) of static holds "
+          "every 8°, hip 90° (sensor tared with the shank off) ...")
+    try:
+        result, truth, _ = analyze_replica([trial_table(t) for t in trials], [t.metadata for t in trials], None,
+                                           out / "replica")
+    except AnalysisError as err:
+        print(f"  PROBLEM: {err}")
+        return {"error": str(err)}, False
+    print("  " + text(result, truth).replace("\n", "\n  "))
+    return to_json(result, truth), True
+
+
 def main(seconds: float = 4.0, out: Path | None = None, faults: bool = True, quick: bool = True) -> int:
     """Run the demo; returns a process exit code (0 when every device streamed cleanly)."""
     print(f"Simulated lab: force plate (serial framing over TCP), dynamometer (CAN, virtual bus), "
@@ -272,6 +297,8 @@ def main(seconds: float = 4.0, out: Path | None = None, faults: bool = True, qui
         report["lab_day"], day_ok = lab_day(out, quick)
         report["afo"], afo_ok = afo_experiment(out, out / "store")
         report["pmp"], pmp_ok = passive_parameters(out)
+        report["replica"], replica_ok = replica_leg(out)
+        pmp_ok = pmp_ok and replica_ok
         report["diagnosis"] = diagnose_recordings(out)
         ok = ok and pmp_ok
         ok = ok and day_ok and afo_ok

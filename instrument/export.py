@@ -93,6 +93,7 @@ def trial_table(trial: TrialFile, subject: dict[str, Any] | None = None) -> Tria
         tt, aa, qq = (np.concatenate(x) for x in zip(*parts))
         return TrialTable({"time_s": tt - tt[0], "angle_deg": aa, "torque_Nm": qq},
                           {"kind": "replica", "hip_flexion_deg": 90.0, "ankle_dorsiflexion_deg": 0.0,
+                           "sensor_tared_unloaded": bool(cond.get("sensor_tared_unloaded", False)),
                            "subject": _subject_block(subject), "source": str(trial.path),
                            "trial_status": trial.status})
     if name == "aads":
@@ -129,17 +130,23 @@ def motion_trial(trial: TrialFile) -> MotionTrial:
     mk, fp = trial.devices["mocap"], trial.devices["force_plate"]
     if mk.samples == 0 or fp.samples == 0:
         raise ExportError(f"{trial.path}: no samples (markers {mk.samples}, plate {fp.samples})")
-    labels = mk.identity.get("labels") or [f"M{i}" for i in range(mk.channels["position_m"].shape[1])]
-    t0 = float(mk.channels["time_s"][0])
-    plate_rate = float(fp.identity.get("rate_hz") or 1000.0)
-    t_fp = fp.channels["time_s"]
-    grid = uniform_grid(t0, min(float(t_fp[-1]), float(mk.channels["time_s"][-1])), plate_rate)
-    stacked = np.hstack([fp.channels["force_n"], fp.channels["cop_m"], fp.channels["free_moment_nm"][:, None]])
+    return motion_from_channels(mk.channels, mk.identity, fp.channels, fp.identity, str(trial.path))
+
+
+def motion_from_channels(markers: dict[str, np.ndarray], mocap_identity: dict[str, Any], plate: dict[str, np.ndarray],
+                         plate_identity: dict[str, Any], source: str = "") -> MotionTrial:
+    """A MotionTrial from recorded (or live ring-buffer) mocap and force-plate channels, on the marker clock."""
+    labels = mocap_identity.get("labels") or [f"M{i}" for i in range(markers["position_m"].shape[1])]
+    t0 = float(markers["time_s"][0])
+    plate_rate = float(plate_identity.get("rate_hz") or 1000.0)
+    t_fp = plate["time_s"]
+    grid = uniform_grid(t0, min(float(t_fp[-1]), float(markers["time_s"][-1])), plate_rate)
+    stacked = np.hstack([plate["force_n"], plate["cop_m"], plate["free_moment_nm"][:, None]])
     on_grid = resample(t_fp, stacked, grid, max_gap_s=2.5 / plate_rate)
     cop = np.column_stack([on_grid[:, 3:5], np.zeros(grid.size)])
-    return MotionTrial(mk.channels["time_s"] - t0, mk.channels["position_m"], list(labels), grid - t0,
-                       on_grid[:, :3], cop, np.nan_to_num(on_grid[:, 5]), str(trial.path),
-                       {"plate_identity": fp.identity, "mocap_identity": mk.identity})
+    return MotionTrial(markers["time_s"] - t0, markers["position_m"], list(labels), grid - t0,
+                       on_grid[:, :3], cop, np.nan_to_num(on_grid[:, 5]), source,
+                       {"plate_identity": plate_identity, "mocap_identity": mocap_identity})
 
 
 def export_trial(trial: TrialFile, fmt: str, out: str | Path, subject: dict[str, Any] | None = None) -> list[Path]:

@@ -16,8 +16,8 @@ import math
 import threading
 import time
 from abc import ABC, abstractmethod
-from dataclasses import asdict, dataclass
-from typing import Any, ClassVar
+from dataclasses import asdict, dataclass, field
+from typing import Any, Callable, ClassVar
 
 from drivers import Dynamometer, StreamingDevice
 
@@ -177,9 +177,25 @@ class ReplicaProtocol(TrialProtocol):
     hold_s: float = 2.0
     move_speed_deg_s: float = 16.0
     first_hold_at_s: float | None = None
+    #: the operator's hand: ``unload(True)`` takes the shank (and springs) off the sensor,
+    #: ``unload(False)`` puts it back; a GUI prompt on the bench, the simulator in simulation
+    unload: Callable[[bool], None] | None = field(default=None, repr=False, compare=False)
+    tare_zero_nm: float | None = None
 
     def condition(self) -> dict[str, Any]:
-        return {"joint": "knee", "hip_flexion_deg": 90.0, "angles_deg": list(self.angles_deg), "hold_s": self.hold_s}
+        return {"joint": "knee", "hip_flexion_deg": 90.0, "angles_deg": list(self.angles_deg), "hold_s": self.hold_s,
+                "sensor_tared_unloaded": self.tare_zero_nm is not None}
+
+    def prepare(self, devices: dict[str, StreamingDevice]) -> None:
+        """Tare the sensor with the shank off, when the operator's hand is available: the rig can
+        never be unloaded with the springs on, and an untared zero would otherwise have to be fitted."""
+        if self.unload is None:
+            return
+        self.unload(True)
+        try:
+            self.tare_zero_nm = float(devices["torque_sensor"].tare())  # type: ignore[attr-defined]
+        finally:
+            self.unload(False)
 
     def hold_windows(self) -> list[tuple[float, float, float]]:
         """(angle deg, start s, end s) of each hold, relative to the first hold."""

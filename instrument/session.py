@@ -39,7 +39,7 @@ class TrialOutcome:
 
 def settings_snapshot(protocol: TrialProtocol, extra: dict[str, Any] | None = None) -> dict[str, Any]:
     """Everything that defines how a trial was taken (as QCoDeS's station snapshot)."""
-    proto = asdict(protocol) if is_dataclass(protocol) else {}
+    proto = {k: v for k, v in (asdict(protocol) if is_dataclass(protocol) else {}).items() if not callable(v)}
     return {
         "software": {"name": "afo-gait-instrument", "version": __version__, "python": platform.python_version(),
                      "numpy": np.__version__, "h5py": h5py.__version__, "hdf5": h5py.version.hdf5_version},
@@ -52,7 +52,8 @@ def settings_snapshot(protocol: TrialProtocol, extra: dict[str, Any] | None = No
 def record_trial(store: SessionStore, session_id: int, protocol: TrialProtocol,
                  devices: dict[str, StreamingDevice], *, operator: str | None = None,
                  trial_number: int | None = None, extra_metadata: dict[str, Any] | None = None,
-                 stop: threading.Event | None = None, engine: AcquisitionEngine | None = None) -> TrialOutcome:
+                 stop: threading.Event | None = None, engine: AcquisitionEngine | None = None,
+                 on_event: Any = None) -> TrialOutcome:
     """Set up, record and index one trial.
 
     A device that loses its link mid-trial: the data on both sides of the hole is kept and the trial
@@ -82,7 +83,12 @@ def record_trial(store: SessionStore, session_id: int, protocol: TrialProtocol,
     t0 = time.monotonic()
     engine.start(writer)
     try:
-        protocol.drive(engine.devices, writer.log_event, stop)
+        def mark(kind: str, **fields: Any) -> None:
+            writer.log_event(kind, **fields)
+            if on_event is not None:  # live consumers (the GUI's runner) learn the protocol's phases
+                on_event(kind, fields)
+
+        protocol.drive(engine.devices, mark, stop)
     finally:
         reports = engine.stop()
     counts = {n: r.counts() for n, r in reports.items()}

@@ -56,6 +56,9 @@ def simulated_devices(protocol: TrialProtocol, config: LabConfig | None = None) 
     """A running simulated lab for ``protocol`` and its (unopened) drivers; both closed on exit."""
     lab = SimulatedLab(config or lab_config_for(protocol))
     devices = {name: OPENERS[name](lab.urls[name]) for name in protocol.devices}
+    if isinstance(protocol, ReplicaProtocol) and protocol.unload is None:
+        # the simulated operator's hand: shank off the sensor for the tare, then back on
+        protocol.unload = lambda off: setattr(lab.torque_sensor, "shank_attached", not off)
     if isinstance(protocol, ReplicaProtocol) and protocol.first_hold_at_s is None:
         # start at the next cycle of the replica rig's schedule (the simulator's time origin)
         t0 = lab.torque_sensor._t0
@@ -77,6 +80,8 @@ def simulation_metadata(lab: SimulatedLab) -> dict[str, Any]:
     truth: dict[str, Any] = {"seed": c.seed, "afo": asdict(c.afo), "leg": {k: v for k, v in asdict(c.leg).items()
                                                                           if k != "bursts"},
                              "replica_shank_mass_kg": c.replica.shank_mass_kg,
+                             "replica_springs": {f"{sp.name}.{k}": float(getattr(sp, k)) for sp in c.replica.springs
+                                                 for k in ("stiffness_n_per_m", "rest_length_m")},
                              "theoretical_stiffness_nm_per_deg": lab.jig.theoretical_stiffness_nm_per_deg(),
                              "jig_time_origin_s": lab.force_plate.time_origin_s}
     return {"simulated": True, "simulation": truth}

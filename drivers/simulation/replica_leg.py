@@ -8,9 +8,15 @@ straight chord:
     wraps if Δ > acos(r/a) + acos(r/b):   L = √(a²−r²) + √(b²−r²) + r·(Δ − acos(r/a) − acos(r/b))
     otherwise:                            L = √(a² + b² − 2ab·cos Δ)
 
-Anterior (extensor-side) springs have Δ = Δ0 + θ, posterior ones Δ = Δ0 − θ, θ = knee flexion.
+Anterior (extensor-side) springs have Δ = Δ0 + θ, posterior ones Δ = Δ0 − θ, θ = knee flexion;
+the biarticular springs (BFLH, RECFEM) also cross a hip pulley, adding ±r_hip·hip.
 The torque the leg exerts against flexion is Σ k·max(L − L0, 0)·dL/dθ plus the shank's weight
 moment (hip at 90°, thigh horizontal: −m·g·d·cos θ pulls toward flexion).
+
+The four springs are named after the muscles whose paths they copy (BFLH, BFSH, VASINT, RECFEM,
+Chapter 3). Their paths are the drawing's (``analysis/pmp/data/replica_leg.toml``); their
+stiffness and rest length are the rig *as built*, a few per cent off the catalogue values the
+drawing lists: the truth an estimator must find.
 """
 
 from __future__ import annotations
@@ -24,7 +30,7 @@ G = 9.81
 
 @dataclass(frozen=True)
 class WrappedSpring:
-    """One spring: stiffness N/m, rest length m, anchors m, pulley radius m, side, Δ0 rad."""
+    """One spring: stiffness N/m, rest length m, anchors m, pulley radius m, side, Δ0 rad, hip pulley m."""
 
     stiffness_n_per_m: float
     rest_length_m: float
@@ -33,6 +39,10 @@ class WrappedSpring:
     pulley_radius_m: float
     anterior: bool
     span0_rad: float
+    name: str = ""
+    hip_pulley_radius_m: float = 0.0
+    hip_lengthens_with_flexion: bool = False
+    hip_rad: float = np.pi / 2
 
     def length_m(self, knee_rad: np.ndarray) -> np.ndarray:
         a, b, r = self.thigh_anchor_m, self.shank_anchor_m, self.pulley_radius_m
@@ -40,7 +50,8 @@ class WrappedSpring:
         tangent_angles = np.arccos(r / a) + np.arccos(r / b)
         wrapped = np.sqrt(a * a - r * r) + np.sqrt(b * b - r * r) + r * (span - tangent_angles)
         chord = np.sqrt(a * a + b * b - 2 * a * b * np.cos(span))
-        return np.where(span > tangent_angles, wrapped, chord)
+        hip = self.hip_pulley_radius_m * self.hip_rad * (1.0 if self.hip_lengthens_with_flexion else -1.0)
+        return np.where(span > tangent_angles, wrapped, chord) + hip
 
     def torque_nm(self, knee_rad: np.ndarray) -> np.ndarray:
         """Torque against flexion (N·m): force times dL/dθ."""
@@ -51,11 +62,13 @@ class WrappedSpring:
 
 
 def default_springs() -> list[WrappedSpring]:
-    """Two extensor-side springs (like the quadriceps) and one flexor-side spring (like a hamstring)."""
+    """The rig as built: BFLH and BFSH behind the knee, VASINT and RECFEM in front (hip 90°)."""
+    d = np.deg2rad
     return [
-        WrappedSpring(2200.0, 0.300, 0.18, 0.16, 0.030, True, 3.0),
-        WrappedSpring(1500.0, 0.310, 0.18, 0.16, 0.035, True, 3.0),
-        WrappedSpring(900.0, 0.300, 0.20, 0.14, 0.030, False, 3.1),
+        WrappedSpring(834.0, 0.3712, 0.20, 0.14, 0.030, False, d(177.6), "BFLH", 0.035, True),
+        WrappedSpring(1163.0, 0.2375, 0.12, 0.15, 0.025, False, d(174.8), "BFSH"),
+        WrappedSpring(1562.0, 0.3262, 0.16, 0.16, 0.030, True, d(166.2), "VASINT"),
+        WrappedSpring(968.0, 0.2605, 0.20, 0.15, 0.030, True, d(134.6), "RECFEM", 0.035, False),
     ]
 
 

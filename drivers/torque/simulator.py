@@ -49,6 +49,8 @@ class TorqueSensorSimulator:
         self.leg = leg or ReplicaLeg()
         self.framing, self.unit, self.baud, self.word_order = framing, unit, baud, word_order
         self.noise_nm, self.offset_nm = noise_nm, offset_nm
+        #: False while the operator has the shank (and its springs) off the sensor, e.g. to tare
+        self.shank_attached = True
         self.zero_nm = 0.0
         self.faults = faults or FaultConfig()
         self.rng = np.random.default_rng(seed)
@@ -89,7 +91,8 @@ class TorqueSensorSimulator:
     def raw_torque_nm(self, t_s: float) -> float:
         knee = self.leg.knee_deg(np.array([t_s]))
         noise = self.noise_nm * self.faults.noise_scale * float(self.rng.normal())
-        return float(self.leg.torque_nm(knee)[0]) + self.offset_nm + noise
+        load = float(self.leg.torque_nm(knee)[0]) if self.shank_attached else 0.0
+        return load + self.offset_nm + noise
 
     async def _action(self, function_code: int, start_address: int, address: int, count: int,
                       regs: list[int], set_values: list[int] | list[bool] | None) -> None:

@@ -47,3 +47,7 @@ def test_demo_records_a_lab_day_into_a_store(tmp_path: Path) -> None:
     pmp = report["pmp"]
     assert "parameters" in pmp and pmp["identifiability"]["undetermined"]  # Riener's moments: the report says what is free
     assert len(pmp["forward_dynamics"]) == 3
+    replica = report["replica"]  # the rig's springs through the real Modbus driver, against the simulator's truth
+    assert {"VASINT.stiffness_n_per_m", "RECFEM.stiffness_n_per_m"} <= set(replica["determined"])
+    assert all(abs(replica["error_pct"][n]) < 3.5 for n in replica["determined"])
+    assert (tmp_path / "replica" / "replica_fit.png").exists()

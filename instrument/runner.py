@@ -1,0 +1,350 @@
+"""Run one protocol trial in the background, with live checks, for the GUI, the CLI and tests (Qt-free).
+
+``TrialRunner`` records a trial through :func:`record_trial` on a worker thread and, beside it,
+watches the stream: the relaxation check on the dynamometer torque (isokinetic trials), the
+safety limits (range of motion, speed, torque: a breach stops the dynamometer), and for AADS
+trials the torque–angle loop and the fit-window coverage. Nothing here blocks the caller: the
+GUI's timer reads :meth:`TrialRunner.snapshot` and the ring buffers; commands to devices run on
+their own threads. The emergency stop goes to the dynamometer at once and is written into the
+trial; whatever the trial recorded stays on disk.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+import time
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+import numpy as np
+
+from drivers import Dynamometer, StreamingDevice
+from drivers.dynamometer.protocol import State
+
+from .acquisition import AcquisitionEngine
+from .errors import ProtocolError
+from .protocols import AadsProtocol, AnkleProtocol, IsokineticProtocol, KneeProtocol, ReplicaProtocol, TrialProtocol
+from .relaxation import ActivationAlarm, RelaxationMonitor
+from .session import TrialOutcome, record_trial
+from .store import SessionStore
+
+NOMINAL_RATES_HZ = {"force_plate": 1000.0, "torque_sensor": 500.0, "dynamometer": 100.0, "mocap": 100.0}
+
+
+@dataclass(frozen=True)
+class SafetyLimits:
+    """What the dynamometer may do with a subject: range of motion (deg), speed (deg/s), torque (N·m)."""
+
+    rom_deg: tuple[float, float] = (-35.0, 95.0)
+    max_speed_deg_s: float = 30.0
+    max_torque_nm: float = 150.0
+
+    def violations(self, protocol: TrialProtocol) -> list[str]:
+        """Why ``protocol`` may not start under these limits (empty when it may)."""
+        out = []
+        if isinstance(protocol, IsokineticProtocol):
+            lo, hi = sorted((protocol.start_deg, protocol.end_deg))
+            if lo < self.rom_deg[0] or hi > self.rom_deg[1]:
+                out.append(f"sweep {lo:g}…{hi:g}° leaves the range of motion {self.rom_deg[0]:g}…{self.rom_deg[1]:g}°")
+            if protocol.speed_deg_s > self.max_speed_deg_s:
+                out.append(f"speed {protocol.speed_deg_s:g}°/s exceeds {self.max_speed_deg_s:g}°/s")
+        return out
+
+
+def checklist_for(protocol: TrialProtocol) -> list[str]:
+    """The set-up items the operator confirms before a trial of ``protocol``."""
+    if isinstance(protocol, (KneeProtocol, AnkleProtocol)):
+        joint = "knee" if isinstance(protocol, KneeProtocol) else "ankle"
+        fixed = (f"hip at {protocol.hip_flexion_deg:g}°" if isinstance(protocol, KneeProtocol)
+                 else f"knee at {protocol.knee_flexion_deg:g}°")
+        return ["subject anthropometrics entered (mass, shank and foot length)",
+                f"dynamometer axis aligned with the {joint} joint centre",
+                f"seat and fixation set: {fixed}",
+                f"arm length and weight entered for gravity compensation ({protocol.arm_mass_kg:g} kg at {protocol.arm_com_m:g} m)",
+                "subject told to relax and not to resist; emergency stop within reach"]
+    if isinstance(protocol, AadsProtocol):
+        return ["force plate zeroed with the AFO unloaded",
+                "AFO foot strapped to the plate (no heel lift or slip)",
+                f"spring {protocol.spring} fitted, hinge moves freely to the 21° stop",
+                "markers on foot, shank and spring hooks visible to the cameras"]
+    if isinstance(protocol, ReplicaProtocol):
+        return ["hip locked at 90°, ankle at 0°",
+                "springs BFLH, BFSH, VASINT, RECFEM attached on their paths",
+                "shank can be lifted off the sensor for the tare"]
+    return []
+
+
+@dataclass
+class Checklist:
+    """Items the operator must confirm; a trial starts only when all are."""
+
+    items: list[str]
+    done: set[int] = field(default_factory=set)
+
+    def confirm(self, index: int, value: bool = True) -> None:
+        (self.done.add if value else self.done.discard)(index)
+
+    @property
+    def complete(self) -> bool:
+        return len(self.done) == len(self.items)
+
+    def missing(self) -> list[str]:
+        return [it for i, it in enumerate(self.items) if i not in self.done]
+
+
+@dataclass
+class LiveState:
+    """What the runner knows now (copied out under a lock)."""
+
+    phase: str = "idle"               # idle, running, done, failed
+    elapsed_s: float = 0.0
+    alarms: list[ActivationAlarm] = field(default_factory=list)
+    limit_breaches: list[str] = field(default_factory=list)
+    emergency_stop_s: float | None = None   # time the e-stop command left the host
+    estop_confirmed_s: float | None = None  # time the dynamometer's telemetry first showed the stop
+    aads_angle_deg: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    aads_torque_nm: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    aads_peak_deg: float = float("nan")
+    aads_covers_window: bool = False
+    aads_past_stop: bool = False
+    outcome: TrialOutcome | None = None
+    error: str | None = None
+
+
+class TrialRunner:
+    """One trial of ``protocol`` on ``devices`` into ``store`` on a worker thread (see the module docstring)."""
+
+    def __init__(self, store: SessionStore, session_id: int, protocol: TrialProtocol,
+                 devices: dict[str, StreamingDevice], *, operator: str | None = None, trial_number: int | None = None,
+                 extra_metadata: dict[str, Any] | None = None, limits: SafetyLimits | None = None,
+                 monitor: RelaxationMonitor | None = None, on_done: Callable[[TrialRunner], None] | None = None) -> None:
+        self.store, self.session_id, self.protocol = store, session_id, protocol
+        self.devices = {n: devices[n] for n in protocol.devices}
+        self.limits = limits or SafetyLimits()
+        problems = self.limits.violations(protocol)
+        if problems:
+            raise ProtocolError("; ".join(problems))
+        self.operator, self.trial_number, self.extra_metadata = operator, trial_number, extra_metadata
+        self.engine = AcquisitionEngine(self.devices, ring_seconds=120.0,
+                                        nominal_rates_hz={n: NOMINAL_RATES_HZ.get(n, 1000.0) for n in self.devices})
+        self.monitor = monitor if monitor is not None else (
+            RelaxationMonitor() if isinstance(protocol, IsokineticProtocol) else None)
+        self.stop_event = threading.Event()
+        self._state = LiveState()
+        self._lock = threading.Lock()
+        self._events: list[tuple[str, dict[str, Any]]] = []
+        self._on_done = on_done
+        self._t0 = 0.0
+        self._worker: threading.Thread | None = None
+        self._watcher: threading.Thread | None = None
+        self._sweep_started = False
+        self._state_events: list[tuple[float, str]] = []
+
+    # ------------------------------------------------------------------ control
+    def start(self) -> None:
+        """Open the devices, apply the limits and start recording (returns at once)."""
+        self._t0 = time.monotonic()
+        with self._lock:
+            self._state.phase = "running"
+        self._worker = threading.Thread(target=self._run, name=f"trial-{self.protocol.name}", daemon=True)
+        self._worker.start()
+        self._watcher = threading.Thread(target=self._watch, name="trial-watch", daemon=True)
+        self._watcher.start()
+
+    def request_stop(self) -> None:
+        """End the trial early (data kept; the trial is marked interrupted)."""
+        self.stop_event.set()
+
+    def emergency_stop(self, reason: str = "operator") -> None:
+        """Stop the dynamometer now (on a command thread), mark the trial, end it; never blocks."""
+        dyno = self.devices.get("dynamometer")
+        with self._lock:
+            if self._state.emergency_stop_s is None:
+                self._state.emergency_stop_s = time.monotonic()
+        if isinstance(dyno, Dynamometer):
+            threading.Thread(target=self._send_estop, args=(dyno,), daemon=True, name="estop").start()
+        self._mark("emergency_stop", reason=reason)
+        self.stop_event.set()
+
+    def wait(self, timeout_s: float | None = None) -> bool:
+        """Wait for the trial to end (for the CLI and tests; the GUI never calls this)."""
+        if self._worker is None:
+            return True
+        self._worker.join(timeout_s)
+        if self._watcher is not None:
+            self._watcher.join(timeout_s)
+        return not self._worker.is_alive()
+
+    def snapshot(self) -> LiveState:
+        with self._lock:
+            s = self._state
+            return LiveState(s.phase, time.monotonic() - self._t0 if s.phase == "running" else s.elapsed_s,
+                             list(s.alarms), list(s.limit_breaches), s.emergency_stop_s, s.estop_confirmed_s,
+                             s.aads_angle_deg, s.aads_torque_nm, s.aads_peak_deg, s.aads_covers_window,
+                             s.aads_past_stop, s.outcome, s.error)
+
+    # ------------------------------------------------------------------ verdict
+    def accept(self) -> None:
+        out = self._require_outcome()
+        self.store.set_status(out.trial_id, "accepted")
+
+    def reject(self, reason: str) -> None:
+        """Reject the trial, keeping its data and the reason (e.g. 'muscle activation at 42°')."""
+        out = self._require_outcome()
+        self.store.set_status(out.trial_id, "rejected", reason)
+
+    def suggested_rejection(self) -> str | None:
+        """Why the trial should be repeated, if the live checks found a reason."""
+        s = self.snapshot()
+        if s.emergency_stop_s is not None:
+            return "emergency stop"
+        if s.alarms:
+            a = s.alarms[0]
+            return f"muscle activation detected at {a.angle_deg:.1f}° (t = {a.time_s:.1f} s, {a.excess_nm:+.1f} N·m)"
+        if s.limit_breaches:
+            return "limit breached: " + s.limit_breaches[0]
+        if isinstance(self.protocol, AadsProtocol) and s.phase == "done" and not s.aads_covers_window:
+            return "bend did not cover the 6–20° fit window"
+        return None
+
+    def _require_outcome(self) -> TrialOutcome:
+        s = self.snapshot()
+        if s.outcome is None:
+            raise ProtocolError("the trial has not finished recording")
+        return s.outcome
+
+    # ------------------------------------------------------------------ threads
+    def _mark(self, kind: str, **fields: Any) -> None:
+        writer = self.engine.writer
+        if writer is not None:
+            writer.log_event(kind, **fields)
+        else:
+            self._events.append((kind, fields))
+
+    def _send_estop(self, dyno: Dynamometer) -> None:
+        try:
+            dyno.emergency_stop()
+        except Exception as err:  # noqa: BLE001 - the operator must see it; the trial still ends
+            with self._lock:
+                self._state.limit_breaches.append(f"emergency stop not delivered: {err}")
+
+    def _run(self) -> None:
+        try:
+            self.engine.open()
+            dyno = self.devices.get("dynamometer")
+            if isinstance(dyno, Dynamometer):
+                dyno.set_torque_limit(self.limits.max_torque_nm)
+            outcome = record_trial(self.store, self.session_id, self.protocol, self.devices, operator=self.operator,
+                                   trial_number=self.trial_number, extra_metadata=self.extra_metadata,
+                                   stop=self.stop_event, engine=self.engine, on_event=self._protocol_event)
+            with self._lock:
+                self._state.outcome = outcome
+                self._state.phase = "done"
+        except Exception as err:  # noqa: BLE001 - shown to the operator; what was recorded stays on disk
+            with self._lock:
+                self._state.error = f"{type(err).__name__}: {err}"
+                self._state.phase = "failed"
+        finally:
+            with self._lock:
+                self._state.elapsed_s = time.monotonic() - self._t0
+            self.stop_event.set()
+            if self._on_done is not None:
+                self._on_done(self)
+
+    def _protocol_event(self, kind: str, fields: dict[str, Any]) -> None:
+        if kind == "sweep_start":
+            self._sweep_started = True
+        elif kind == "sweep_end":
+            self._sweep_started = False
+        with self._lock:
+            self._state_events.append((time.monotonic() - self._t0, kind))
+
+    def _watch(self) -> None:
+        """Relaxation, limits and the AADS loop, from the ring buffers, every 20 ms until the trial ends."""
+        marks = {n: 0 for n in self.devices}
+        last_aads = 0.0
+        while self._worker is not None and self._worker.is_alive():
+            time.sleep(0.02)
+            if "dynamometer" in self.engine.rings:
+                data, marks["dynamometer"] = self.engine.rings["dynamometer"].since(marks["dynamometer"])
+                if len(data["time_s"]):
+                    self._check_dynamometer(data)
+            if isinstance(self.protocol, AadsProtocol) and time.monotonic() - last_aads > 0.25:
+                last_aads = time.monotonic()
+                self._update_aads()
+        if isinstance(self.protocol, AadsProtocol):
+            self._update_aads()
+
+    def _check_dynamometer(self, d: dict[str, np.ndarray]) -> None:
+        pos = np.rad2deg(d["position_rad"])
+        vel = np.rad2deg(d["velocity_rad_s"])
+        tq = d["torque_nm"]
+        with self._lock:
+            st = self._state
+            if st.emergency_stop_s is not None and st.estop_confirmed_s is None and "state" in d:
+                stopped = np.flatnonzero(d["state"] == d["state"].dtype.type(ESTOP_STATE))
+                if stopped.size:
+                    st.estop_confirmed_s = time.monotonic()
+        breach = None
+        if np.any(np.abs(tq) > self.limits.max_torque_nm):
+            breach = f"torque {np.max(np.abs(tq)):.1f} N·m over {self.limits.max_torque_nm:g} N·m"
+        elif np.any((pos < self.limits.rom_deg[0] - 2) | (pos > self.limits.rom_deg[1] + 2)):
+            breach = f"angle {pos[np.argmax(np.abs(pos))]:.1f}° outside {self.limits.rom_deg}"
+        elif np.any(np.abs(vel) > self.limits.max_speed_deg_s + 5):
+            breach = f"speed {np.max(np.abs(vel)):.0f}°/s over {self.limits.max_speed_deg_s:g}°/s"
+        if breach is not None and self._state.emergency_stop_s is None:
+            with self._lock:
+                self._state.limit_breaches.append(breach)
+            self.emergency_stop(reason=breach)
+            return
+        if self.monitor is not None and isinstance(self.protocol, IsokineticProtocol) and self._sweep_started:
+            new = self.monitor.update(d["time_s"], pos, tq)
+            if new:
+                with self._lock:
+                    self._state.alarms.extend(new)
+                for a in new:
+                    self._mark("activation", time_s=a.time_s, angle_deg=a.angle_deg, excess_nm=a.excess_nm)
+
+    def _update_aads(self) -> None:
+        """The loop so far: hinge angle from the markers, AFO torque by static optimisation (the analysis's own)."""
+        from analysis.aads.model import load_jig_model
+        from analysis.aads.pipeline import analyze_trial
+        from analysis.errors import AnalysisError
+
+        from .export import motion_from_channels
+
+        rings = self.engine.rings
+        if "mocap" not in rings or "force_plate" not in rings:
+            return
+        mk, fp = rings["mocap"].latest(), rings["force_plate"].latest()
+        if len(mk["time_s"]) < 50 or len(fp["time_s"]) < 200:
+            return
+        try:
+            motion = motion_from_channels(mk, self.devices["mocap"].identity(), fp, self.devices["force_plate"].identity(),
+                                          "live")
+            res = analyze_trial(motion, _jig_model(load_jig_model))
+        except (AnalysisError, ValueError, IndexError):
+            return
+        ok = res.sop.valid
+        angle, torque = res.angle_deg[ok], res.afo_torque_nm[ok]
+        peak = float(np.nanmax(angle)) if angle.size else float("nan")
+        with self._lock:
+            st = self._state
+            st.aads_angle_deg, st.aads_torque_nm, st.aads_peak_deg = angle, torque, peak
+            st.aads_covers_window = bool(angle.size) and float(np.nanmin(angle)) <= 6.0 and peak >= 20.0
+            st.aads_past_stop = bool(peak > 21.0)
+
+
+ESTOP_STATE = int(State.ESTOP)
+_JIG_MODEL: Any = None
+
+
+def _jig_model(loader: Callable[[], Any]) -> Any:
+    global _JIG_MODEL
+    if _JIG_MODEL is None:
+        _JIG_MODEL = loader()
+    return _JIG_MODEL
+
+
+__all__ = ["TrialRunner", "SafetyLimits", "Checklist", "checklist_for", "LiveState"]
