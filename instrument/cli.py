@@ -46,6 +46,14 @@ def build_parser() -> argparse.ArgumentParser:
     exp.add_argument("--format", choices=("sto", "csv", "c3d"), required=True)
     exp.add_argument("-o", "--output", type=Path, required=True)
 
+    gui = sub.add_parser("gui", help="the operator window (PySide6): guided protocols, live checks, e-stop")
+    gui.add_argument("--simulate", action="store_true", help="use the simulated lab instead of hardware")
+    gui.add_argument("--store", type=Path, default=None, help="store folder (default: the user's data folder)")
+    gui.add_argument("--subject", default="SIM01")
+    gui.add_argument("--operator", default="operator-1")
+    for dev in ("force_plate", "dynamometer", "torque_sensor", "mocap"):
+        gui.add_argument(f"--{dev.replace('_', '-')}", dest=dev, default=None, metavar="URL", help=f"{dev} URL (hardware)")
+    gui.add_argument("--close-after", type=float, default=None, help=argparse.SUPPRESS)
     ana = sub.add_parser("analyze", help="analyse recorded trials")
     kinds = ana.add_subparsers(dest="kind", required=True)
     afo = kinds.add_parser("afo", help="AFO stiffness by the AADS test (static optimisation, theory, ANOVA)")
@@ -162,6 +170,17 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_gui(args: argparse.Namespace) -> int:
+    from .gui.app import run
+
+    urls = {d: getattr(args, d) for d in ("force_plate", "dynamometer", "torque_sensor", "mocap") if getattr(args, d)}
+    if not args.simulate and not urls:
+        print("instrument gui: give --simulate, or the device URLs (--dynamometer URL, ...)", file=sys.stderr)
+        return 2
+    return run(simulate=args.simulate, store_dir=args.store, urls=urls, subject=args.subject, operator=args.operator,
+               seconds=args.close_after)
+
+
 def cmd_analyze(args: argparse.Namespace) -> int:
     from analysis.aads.experiment import write_report
     from analysis.aads.model import load_jig_model
@@ -272,7 +291,7 @@ def main(argv: list[str] | None = None) -> int:
 
             return demo_main(args.seconds, args.out, faults=not args.no_faults)
         return {"record": cmd_record, "sessions": cmd_sessions, "export": cmd_export,
-                "analyze": cmd_analyze, "diagnose": cmd_diagnose}[args.command](args)
+                "analyze": cmd_analyze, "diagnose": cmd_diagnose, "gui": cmd_gui}[args.command](args)
     except (InstrumentError, OSError) as err:
         print(f"error: {err}", file=sys.stderr)
         return 1

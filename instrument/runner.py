@@ -162,10 +162,13 @@ class TrialRunner:
         with self._lock:
             if self._state.emergency_stop_s is None:
                 self._state.emergency_stop_s = time.monotonic()
-        if isinstance(dyno, Dynamometer):
-            threading.Thread(target=self._send_estop, args=(dyno,), daemon=True, name="estop").start()
         self._mark("emergency_stop", reason=reason)
-        self.stop_event.set()
+        if isinstance(dyno, Dynamometer):
+            # the command thread ends the trial once the telemetry shows the stop (so the
+            # recording holds it), or after 1 s without that confirmation
+            threading.Thread(target=self._send_estop, args=(dyno,), daemon=True, name="estop").start()
+        else:
+            self.stop_event.set()
 
     def wait(self, timeout_s: float | None = None) -> bool:
         """Wait for the trial to end (for the CLI and tests; the GUI never calls this)."""
@@ -225,9 +228,22 @@ class TrialRunner:
     def _send_estop(self, dyno: Dynamometer) -> None:
         try:
             dyno.emergency_stop()
+            deadline = time.monotonic() + 1.0
+            while time.monotonic() < deadline:
+                status = getattr(dyno, "status", None)
+                if status is not None and int(status.state) == ESTOP_STATE:
+                    with self._lock:
+                        if self._state.estop_confirmed_s is None:
+                            self._state.estop_confirmed_s = time.monotonic()
+                    self._mark("emergency_stop_confirmed")
+                    break
+                time.sleep(0.001)
         except Exception as err:  # noqa: BLE001 - the operator must see it; the trial still ends
             with self._lock:
                 self._state.limit_breaches.append(f"emergency stop not delivered: {err}")
+        finally:
+            time.sleep(0.2)  # a few telemetry frames of the stopped arm into the recording
+            self.stop_event.set()
 
     def _run(self) -> None:
         try:
@@ -299,7 +315,14 @@ class TrialRunner:
             self.emergency_stop(reason=breach)
             return
         if self.monitor is not None and isinstance(self.protocol, IsokineticProtocol) and self._sweep_started:
-            new = self.monitor.update(d["time_s"], pos, tq)
+            # only the isokinetic part: moving at the set speed (the start and stop transients are
+            # the dynamometer's, not the subject's)
+            steady = np.abs(np.abs(vel) - self.protocol.speed_deg_s) < 0.2 * self.protocol.speed_deg_s
+            if "state" in d:
+                steady &= d["state"] == int(State.MOVING)
+            if not steady.any():
+                return
+            new = self.monitor.update(d["time_s"][steady], pos[steady], tq[steady])
             if new:
                 with self._lock:
                     self._state.alarms.extend(new)

@@ -1,0 +1,29 @@
+"""``instrument gui``: the operator window on the simulated lab or on the lab's devices."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from ..sources import HardwareSource, SimulatedSource
+from ..store import SessionStore, default_store_dir
+
+
+def run(*, simulate: bool, store_dir: Path | None = None, urls: dict[str, str] | None = None,
+        subject: str = "SIM01", operator: str = "operator-1", seconds: float | None = None) -> int:
+    """Open the window; ``seconds`` closes it after that long (smoke runs). Returns the exit code."""
+    from PySide6 import QtCore, QtWidgets
+
+    from .window import MainWindow
+
+    app = QtWidgets.QApplication.instance() or QtWidgets.QApplication(sys.argv[:1])
+    source = SimulatedSource() if simulate else HardwareSource(urls or {})
+    store = SessionStore(store_dir or default_store_dir())
+    window = MainWindow(store, source, subject_code=subject, operator=operator)
+    window.resize(1280, 800)
+    window.show()
+    if seconds is not None:
+        QtCore.QTimer.singleShot(int(seconds * 1000), window.close)
+    code = app.exec()
+    store.close()
+    return int(code)

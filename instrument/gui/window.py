@@ -1,0 +1,512 @@
+"""The operator's window: set-up, checklist, live plots, relaxation flags, e-stop, accept or repeat.
+
+Every device call happens off the GUI thread (the ``TrialRunner`` and its command threads); the
+window only reads ring buffers and the runner's snapshot on a ``QTimer`` (30 Hz) and calls
+``setData`` once per curve per tick (pyqtgraph's scrolling-plot pattern). The emergency stop is a
+button and the Esc key; closing the window mid-trial stops the devices and keeps the data.
+"""
+
+from __future__ import annotations
+
+import random
+import threading
+import time
+from contextlib import ExitStack
+from typing import Any
+
+import numpy as np
+import pyqtgraph as pg
+from PySide6 import QtCore, QtGui, QtWidgets
+
+from ..acquisition import AcquisitionEngine
+from ..protocols import AADS_SPRINGS_N_PER_M, AadsProtocol, AnkleProtocol, IsokineticProtocol, KneeProtocol, \
+    ReplicaProtocol, TrialProtocol
+from ..runner import Checklist, SafetyLimits, TrialRunner, checklist_for
+from ..store import SessionStore, Subject
+
+PROTOCOL_NAMES = ("AADS test", "Knee isokinetic", "Ankle isokinetic", "Replica leg")
+REFRESH_HZ = 30.0
+
+
+class FrameCounter:
+    """Timer ticks per second and the longest gap between ticks (ms): the GUI thread's health."""
+
+    def __init__(self) -> None:
+        self.ticks = 0
+        self.started = time.perf_counter()
+        self.last = self.started
+        self.max_gap_ms = 0.0
+
+    def tick(self) -> None:
+        now = time.perf_counter()
+        self.max_gap_ms = max(self.max_gap_ms, (now - self.last) * 1e3)
+        self.last = now
+        self.ticks += 1
+
+    def fps(self) -> float:
+        span = self.last - self.started
+        return self.ticks / span if span > 0 else 0.0
+
+
+class MainWindow(QtWidgets.QMainWindow):
+    """One operator, one subject, one session; trials recorded into ``store`` from ``source``'s devices."""
+
+    sigAnalysis = QtCore.Signal(str)
+
+    def __init__(self, store: SessionStore, source: Any, *, subject_code: str = "SIM01", operator: str = "operator-1",
+                 limits: SafetyLimits | None = None) -> None:
+        super().__init__()
+        self.store, self.source, self.operator = store, source, operator
+        self.limits = limits or SafetyLimits()
+        self.runner: TrialRunner | None = None
+        self.checklist = Checklist([])
+        self.monitor_engine: AcquisitionEngine | None = None
+        self._stack = ExitStack()
+        self._session_id: int | None = None
+        self._subject_code = subject_code
+        self._last_verdict: str | None = None
+        self.frames = FrameCounter()
+        self.analysis_text = ""
+        self.setWindowTitle("AFO & passive-muscle lab instrument" + (" — SIMULATION" if source.simulated else ""))
+        self._build()
+        self.sigAnalysis.connect(self._show_analysis)
+        self.timer = QtCore.QTimer(self)
+        self.timer.timeout.connect(self._refresh)
+        self.timer.start(int(1000 / REFRESH_HZ))
+        self._on_protocol_changed(0)
+
+    # ------------------------------------------------------------------ layout
+    def _build(self) -> None:
+        central = QtWidgets.QWidget()
+        self.setCentralWidget(central)
+        root = QtWidgets.QHBoxLayout(central)
+        side = QtWidgets.QVBoxLayout()
+        root.addLayout(side, 0)
+
+        self.protocol_box = QtWidgets.QComboBox()
+        self.protocol_box.addItems(PROTOCOL_NAMES)
+        self.protocol_box.currentIndexChanged.connect(self._on_protocol_changed)
+        side.addWidget(QtWidgets.QLabel("<b>Protocol</b>"))
+        side.addWidget(self.protocol_box)
+
+        form = QtWidgets.QFormLayout()
+        self.spring_box = QtWidgets.QComboBox()
+        self.spring_box.addItems([f"{k}: {v:.0f} N/m" for k, v in AADS_SPRINGS_N_PER_M.items()])
+        self.aads_operator = QtWidgets.QSpinBox(minimum=1, maximum=4)
+        self.aads_trial = QtWidgets.QSpinBox(minimum=1, maximum=5)
+        self.order_button = QtWidgets.QPushButton("Randomise spring order")
+        self.order_button.clicked.connect(self._randomise_springs)
+        self.order_label = QtWidgets.QLabel("")
+        self.hip_box = QtWidgets.QComboBox()
+        self.hip_box.addItems(["90", "55", "15"])
+        self.knee_box = QtWidgets.QComboBox()
+        self.knee_box.addItems(["0", "45", "90"])
+        self.speed_spin = QtWidgets.QDoubleSpinBox(minimum=1.0, maximum=self.limits.max_speed_deg_s, value=5.0, suffix=" °/s")
+        self.end_spin = QtWidgets.QDoubleSpinBox(minimum=5.0, maximum=90.0, value=90.0, suffix=" °")
+        self.hold_spin = QtWidgets.QDoubleSpinBox(minimum=0.3, maximum=10.0, value=2.0, suffix=" s")
+        self.seconds_spin = QtWidgets.QDoubleSpinBox(minimum=2.0, maximum=30.0, value=6.0, suffix=" s")
+        self.rows: dict[str, list[QtWidgets.QWidget]] = {}
+        for key, label, w in (("aads", "Spring", self.spring_box), ("aads", "Operator", self.aads_operator),
+                              ("aads", "Trial", self.aads_trial), ("aads", "Bend time", self.seconds_spin),
+                              ("aads", "", self.order_button), ("aads", "", self.order_label),
+                              ("knee", "Hip flexion (°)", self.hip_box), ("ankle", "Knee flexion (°)", self.knee_box),
+                              ("iso", "Speed", self.speed_spin), ("knee", "Sweep end", self.end_spin),
+                              ("replica", "Hold per angle", self.hold_spin)):
+            lab = QtWidgets.QLabel(label)
+            form.addRow(lab, w)
+            self.rows.setdefault(key, []).extend([lab, w])
+        side.addLayout(form)
+
+        side.addWidget(QtWidgets.QLabel("<b>Subject</b>"))
+        subj = QtWidgets.QFormLayout()
+        self.mass_spin = QtWidgets.QDoubleSpinBox(minimum=0.0, maximum=250.0, value=0.0, suffix=" kg")
+        self.shank_spin = QtWidgets.QDoubleSpinBox(minimum=0.0, maximum=0.8, value=0.0, decimals=3, suffix=" m")
+        self.foot_spin = QtWidgets.QDoubleSpinBox(minimum=0.0, maximum=0.5, value=0.0, decimals=3, suffix=" m")
+        for label, w in (("Mass", self.mass_spin), ("Shank length", self.shank_spin), ("Foot length", self.foot_spin)):
+            subj.addRow(label, w)
+            w.valueChanged.connect(self._update_buttons)
+        side.addLayout(subj)
+
+        side.addWidget(QtWidgets.QLabel("<b>Before the trial</b>"))
+        self.check_list = QtWidgets.QListWidget()
+        self.check_list.itemChanged.connect(self._on_check)
+        side.addWidget(self.check_list, 1)
+
+        lim = self.limits
+        self.limits_label = QtWidgets.QLabel(
+            f"Limits: ROM {lim.rom_deg[0]:g}…{lim.rom_deg[1]:g}°, speed ≤ {lim.max_speed_deg_s:g}°/s, "
+            f"torque ≤ {lim.max_torque_nm:g} N·m")
+        self.limits_label.setWordWrap(True)
+        side.addWidget(self.limits_label)
+
+        buttons = QtWidgets.QGridLayout()
+        self.start_button = QtWidgets.QPushButton("Start trial")
+        self.stop_button = QtWidgets.QPushButton("Stop")
+        self.accept_button = QtWidgets.QPushButton("Accept")
+        self.repeat_button = QtWidgets.QPushButton("Reject && repeat")
+        self.estop_button = QtWidgets.QPushButton("EMERGENCY STOP (Esc)")
+        self.estop_button.setStyleSheet("background:#c00; color:white; font-weight:bold; padding:10px")
+        self.start_button.clicked.connect(self.start_trial)
+        self.stop_button.clicked.connect(self.stop_trial)
+        self.accept_button.clicked.connect(self.accept_trial)
+        self.repeat_button.clicked.connect(self.repeat_trial)
+        self.estop_button.clicked.connect(self.emergency_stop)
+        buttons.addWidget(self.start_button, 0, 0)
+        buttons.addWidget(self.stop_button, 0, 1)
+        buttons.addWidget(self.accept_button, 1, 0)
+        buttons.addWidget(self.repeat_button, 1, 1)
+        buttons.addWidget(self.estop_button, 2, 0, 1, 2)
+        side.addLayout(buttons)
+        self.estop_shortcut = QtGui.QShortcut(QtGui.QKeySequence(QtCore.Qt.Key.Key_Escape), self)
+        self.estop_shortcut.setContext(QtCore.Qt.ShortcutContext.ApplicationShortcut)
+        self.estop_shortcut.activated.connect(self.emergency_stop)
+
+        main = QtWidgets.QVBoxLayout()
+        root.addLayout(main, 1)
+        self.instructions = QtWidgets.QLabel("")
+        self.instructions.setWordWrap(True)
+        self.instructions.setStyleSheet("font-size:14px; padding:4px")
+        main.addWidget(self.instructions)
+        self.plots = pg.GraphicsLayoutWidget()
+        main.addWidget(self.plots, 1)
+        self.plot_a = self.plots.addPlot(row=0, col=0)
+        self.plot_b = self.plots.addPlot(row=1, col=0)
+        for p in (self.plot_a, self.plot_b):
+            p.showGrid(x=True, y=True, alpha=0.3)
+            p.setClipToView(True)
+            p.setDownsampling(mode="peak")
+        self.curve_a = self.plot_a.plot(pen=pg.mkPen("#1f77b4", width=2))
+        self.curve_b = self.plot_b.plot(pen=pg.mkPen("#ff7f0e", width=2))
+        self.alarm_points = pg.ScatterPlotItem(size=14, brush=pg.mkBrush(220, 0, 0, 200), symbol="x")
+        self.plot_a.addItem(self.alarm_points)
+        self.window_region = pg.LinearRegionItem(values=(6.0, 20.0), movable=False, brush=pg.mkBrush(0, 160, 0, 40))
+        self.stop_line = pg.InfiniteLine(pos=21.0, angle=90, pen=pg.mkPen("r", style=QtCore.Qt.PenStyle.DashLine))
+        self.verdict = QtWidgets.QLabel("")
+        self.verdict.setWordWrap(True)
+        main.addWidget(self.verdict)
+        self.result_label = QtWidgets.QLabel("")
+        self.result_label.setWordWrap(True)
+        self.result_label.setTextInteractionFlags(QtCore.Qt.TextInteractionFlag.TextSelectableByMouse)
+        self.result_label.setStyleSheet("font-family: monospace")
+        main.addWidget(self.result_label)
+        self.health = QtWidgets.QLabel("devices: idle")
+        self.statusBar().addPermanentWidget(self.health, 1)
+
+    # ------------------------------------------------------------------ protocol set-up
+    def protocol(self) -> TrialProtocol:
+        """The protocol the form describes."""
+        i = self.protocol_box.currentIndex()
+        if i == 0:
+            return AadsProtocol(spring=self.spring_box.currentIndex() + 1, operator=self.aads_operator.value(),
+                                trial=self.aads_trial.value(), duration_s=self.seconds_spin.value())
+        if i == 1:
+            return KneeProtocol(hip_flexion_deg=float(self.hip_box.currentText()), speed_deg_s=self.speed_spin.value(),
+                                end_deg=self.end_spin.value())
+        if i == 2:
+            return AnkleProtocol(knee_flexion_deg=float(self.knee_box.currentText()), speed_deg_s=self.speed_spin.value())
+        return ReplicaProtocol(hold_s=self.hold_spin.value())
+
+    def _on_protocol_changed(self, index: int) -> None:
+        key = ("aads", "knee", "ankle", "replica")[index]
+        for k, widgets in self.rows.items():
+            show = k == key or (k == "iso" and key in ("knee", "ankle"))
+            for w in widgets:
+                w.setVisible(show)
+        self._reset_checklist()
+        self._set_plot_mode(key)
+        self.instructions.setText(self._instructions(key))
+        self._update_buttons()
+
+    def _reset_checklist(self) -> None:
+        self.checklist = Checklist(checklist_for(self.protocol()))
+        self.check_list.blockSignals(True)
+        self.check_list.clear()
+        for text in self.checklist.items:
+            item = QtWidgets.QListWidgetItem(text)
+            item.setFlags(item.flags() | QtCore.Qt.ItemFlag.ItemIsUserCheckable)
+            item.setCheckState(QtCore.Qt.CheckState.Unchecked)
+            self.check_list.addItem(item)
+        self.check_list.blockSignals(False)
+
+    def _on_check(self, item: QtWidgets.QListWidgetItem) -> None:
+        self.checklist.confirm(self.check_list.row(item), item.checkState() == QtCore.Qt.CheckState.Checked)
+        self._update_buttons()
+
+    def confirm_checklist(self) -> None:
+        """Tick every item (as the operator does, one by one)."""
+        for i in range(self.check_list.count()):
+            self.check_list.item(i).setCheckState(QtCore.Qt.CheckState.Checked)
+
+    def set_subject(self, mass_kg: float, shank_length_m: float, foot_length_m: float) -> None:
+        self.mass_spin.setValue(mass_kg)
+        self.shank_spin.setValue(shank_length_m)
+        self.foot_spin.setValue(foot_length_m)
+
+    def _anthropometrics_ok(self) -> bool:
+        return self.mass_spin.value() > 20 and self.shank_spin.value() > 0.2 and self.foot_spin.value() > 0.1
+
+    def _randomise_springs(self) -> None:
+        order = random.sample(sorted(AADS_SPRINGS_N_PER_M), 3)
+        self.order_label.setText("spring order: " + " → ".join(str(s) for s in order))
+        self.spring_box.setCurrentIndex(order[0] - 1)
+
+    @staticmethod
+    def _instructions(key: str) -> str:
+        return {
+            "aads": "AADS: with the AFO unloaded, zero the plate. Then push the AFO down past 20° (not beyond the 21° "
+                    "stop) and return it to neutral. The loop must cover the green 6–20° window.",
+            "knee": "Knee: subject seated, hip as set, relaxed. The dynamometer moves the knee from full extension to "
+                    "flexion at the set speed. Red crosses mark torque the passive tissue cannot make (activation).",
+            "ankle": "Ankle: knee as set, relaxed. The dynamometer moves the ankle from full dorsiflexion to "
+                     "plantarflexion at the set speed. Red crosses mark activation.",
+            "replica": "Replica leg, hip 90°: lift the shank off for the tare when asked, then the knee is locked "
+                       "every 8° from 0 to 88°; the torque is read at each hold.",
+        }[key]
+
+    def _set_plot_mode(self, key: str) -> None:
+        for item in (self.window_region, self.stop_line):
+            if item.scene() is not None:
+                self.plot_a.removeItem(item)
+        if key == "aads":
+            self.plot_a.setLabels(left="AFO torque (N·m)", bottom="dorsiflexion (°)")
+            self.plot_b.setLabels(left="vertical force (N)", bottom="time (s)")
+            self.plot_a.addItem(self.window_region)
+            self.plot_a.addItem(self.stop_line)
+        elif key in ("knee", "ankle"):
+            self.plot_a.setLabels(left="torque (N·m)", bottom="time (s)")
+            self.plot_b.setLabels(left="angle (°)", bottom="time (s)")
+        else:
+            self.plot_a.setLabels(left="knee torque (N·m)", bottom="time (s)")
+            self.plot_b.setLabels(left="shaft speed (rpm)", bottom="time (s)")
+        self.curve_a.setData([], [])
+        self.curve_b.setData([], [])
+        self.alarm_points.setData([], [])
+
+    def _update_buttons(self) -> None:
+        running = self.runner is not None and self.runner.snapshot().phase == "running"
+        finished = self.runner is not None and self.runner.snapshot().phase in ("done", "failed") and \
+            self._last_verdict is None
+        needs_subject = self.protocol_box.currentIndex() in (1, 2)
+        ready = self.checklist.complete and (self._anthropometrics_ok() or not needs_subject)
+        self.start_button.setEnabled(ready and not running and not finished)
+        self.stop_button.setEnabled(running)
+        self.accept_button.setEnabled(finished and self.runner is not None and self.runner.snapshot().outcome is not None)
+        self.repeat_button.setEnabled(finished)
+        self.protocol_box.setEnabled(not running)
+
+    # ------------------------------------------------------------------ trial control
+    def _session(self) -> int:
+        if self._session_id is None:
+            try:
+                self.store.subject(self._subject_code)
+            except Exception:  # noqa: BLE001 - a new subject
+                self.store.add_subject(Subject(self._subject_code, mass_kg=self.mass_spin.value() or None,
+                                               shank_length_m=self.shank_spin.value() or None,
+                                               foot_length_m=self.foot_spin.value() or None))
+            self._session_id = self.store.new_session(self._subject_code, self.operator, notes="gui")
+        return self._session_id
+
+    def start_trial(self) -> None:
+        if not self.checklist.complete:
+            self.verdict.setText("Confirm the checklist first: " + "; ".join(self.checklist.missing()))
+            return
+        protocol = self.protocol()
+        self._stack.close()
+        self._stack = ExitStack()
+        try:
+            devices = self._stack.enter_context(self.source.devices(protocol))
+            self.runner = TrialRunner(self.store, self._session(), protocol, devices, operator=self.operator,
+                                      trial_number=getattr(protocol, "trial", None),
+                                      extra_metadata=self.source.metadata(), limits=self.limits)
+        except Exception as err:  # noqa: BLE001 - shown to the operator
+            self._stack.close()
+            self.verdict.setText(f"Cannot start: {err}")
+            return
+        self._last_verdict = None
+        self._set_plot_mode(protocol.name)
+        self.runner.start()
+        self.verdict.setText(f"Recording {protocol.name} … (expected {protocol.expected_duration_s():.0f} s)")
+        self._update_buttons()
+
+    def stop_trial(self) -> None:
+        if self.runner is not None:
+            self.runner.request_stop()
+
+    def emergency_stop(self) -> None:
+        """Stop the dynamometer at once (command thread), mark the trial and end it."""
+        if self.runner is not None and self.runner.snapshot().phase == "running":
+            self.runner.emergency_stop("operator: e-stop")
+            self.verdict.setText("EMERGENCY STOP sent to the dynamometer; the trial's data is kept.")
+
+    def accept_trial(self) -> None:
+        if self.runner is None:
+            return
+        self.runner.accept()
+        self._last_verdict = "accepted"
+        self.verdict.setText(f"Trial {self.runner.snapshot().outcome.trial_id} accepted.")  # type: ignore[union-attr]
+        self._analyse_in_background(self.runner)
+        self._next_trial_number()
+        self._update_buttons()
+
+    def repeat_trial(self) -> None:
+        if self.runner is None:
+            return
+        reason = self.runner.suggested_rejection() or "operator asked for a repeat"
+        if self.runner.snapshot().outcome is not None:
+            self.runner.reject(reason)
+        self._last_verdict = "rejected"
+        self.verdict.setText(f"Rejected ({reason}); data kept. Ready to repeat the same condition.")
+        self._update_buttons()
+
+    def _next_trial_number(self) -> None:
+        if self.protocol_box.currentIndex() == 0 and self.aads_trial.value() < 5:
+            self.aads_trial.setValue(self.aads_trial.value() + 1)
+
+    # ------------------------------------------------------------------ background analysis
+    def _analyse_in_background(self, runner: TrialRunner) -> None:
+        outcome = runner.snapshot().outcome
+        if outcome is None:
+            return
+        protocol, store_root = runner.protocol, self.store.root
+        subject = {"mass_kg": self.mass_spin.value(), "shank_length_m": self.shank_spin.value(),
+                   "foot_length_m": self.foot_spin.value()}
+
+        def work() -> None:
+            try:
+                text = analyse_set(protocol, store_root, outcome.trial_id, subject)
+            except Exception as err:  # noqa: BLE001 - shown, never crashes the window
+                text = f"analysis failed: {type(err).__name__}: {err}"
+            self.sigAnalysis.emit(text)
+
+        self.result_label.setText("analysing the set in the background …")
+        threading.Thread(target=work, name="set-analysis", daemon=True).start()
+
+    def _show_analysis(self, text: str) -> None:
+        self.analysis_text = text
+        self.result_label.setText(text)
+
+    # ------------------------------------------------------------------ refresh (timer)
+    def _refresh(self) -> None:
+        self.frames.tick()
+        runner = self.runner
+        engine = runner.engine if runner is not None else self.monitor_engine
+        if engine is not None:
+            self._plot(engine, runner)
+            self._health(engine)
+        if runner is not None:
+            snap = runner.snapshot()
+            if snap.phase in ("done", "failed") and self._last_verdict is None and not self.verdict.text().startswith(
+                    ("Trial finished", "Trial failed")):
+                self._stack.close()
+                why = runner.suggested_rejection()
+                if snap.phase == "failed":
+                    self.verdict.setText(f"Trial failed: {snap.error}. Data recorded so far is kept.")
+                else:
+                    self.verdict.setText(f"Trial finished ({snap.outcome.status if snap.outcome else '?'}). "
+                                         + (f"Suggest repeat: {why}." if why else "Accept, or reject and repeat."))
+                self._update_buttons()
+            elif snap.phase == "running" and snap.alarms:
+                a = snap.alarms[-1]
+                self.verdict.setText(f"ACTIVATION flagged at {a.angle_deg:.1f}° ({a.excess_nm:+.1f} N·m): "
+                                     "the trial will be offered for repeat.")
+
+    def _plot(self, engine: AcquisitionEngine, runner: TrialRunner | None) -> None:
+        rings = engine.rings
+        key = runner.protocol.name if runner is not None else "monitor"
+        if key in ("knee", "ankle") or (key == "monitor" and "dynamometer" in rings):
+            d = rings["dynamometer"].latest()
+            if len(d["time_s"]):
+                t0 = d["time_s"][0]
+                self.curve_a.setData(d["time_s"] - t0, d["torque_nm"])
+                self.curve_b.setData(d["time_s"] - t0, np.rad2deg(d["position_rad"]))
+                if runner is not None:
+                    alarms = runner.snapshot().alarms
+                    if alarms:
+                        at = np.array([a.time_s for a in alarms]) - t0
+                        self.alarm_points.setData(at, np.interp(at, d["time_s"] - t0, d["torque_nm"]))
+        elif key == "aads":
+            snap = runner.snapshot() if runner is not None else None
+            if snap is not None and snap.aads_angle_deg.size:
+                self.curve_a.setData(snap.aads_angle_deg, snap.aads_torque_nm)
+            if "force_plate" in rings:
+                f = rings["force_plate"].latest(5000)
+                if len(f["time_s"]):
+                    self.curve_b.setData(f["time_s"] - f["time_s"][0], f["force_n"][:, 2])
+        elif key == "replica" and "torque_sensor" in rings:
+            d = rings["torque_sensor"].latest()
+            if len(d["time_s"]):
+                self.curve_a.setData(d["time_s"] - d["time_s"][0], d["torque_nm"])
+                if "speed_rpm" in d:
+                    self.curve_b.setData(d["time_s"] - d["time_s"][0], d["speed_rpm"])
+
+    def _health(self, engine: AcquisitionEngine) -> None:
+        parts = []
+        for name, dev in engine.devices.items():
+            st = dev.stats
+            rate = st.rate_hz()
+            state = "connected" if dev.connected else "DISCONNECTED"
+            parts.append(f"{name}: {state}, {rate:.0f} Hz, {st.gaps} gaps, {st.lost_samples} lost"
+                         if np.isfinite(rate) else f"{name}: {state}")
+        parts.append(f"GUI {self.frames.fps():.0f} fps")
+        self.health.setText(" | ".join(parts))
+
+    # ------------------------------------------------------------------ closing
+    def closeEvent(self, event: QtGui.QCloseEvent) -> None:  # noqa: N802 - Qt override
+        """Mid-trial: stop the dynamometer and end the recording (its data stays), then close the devices."""
+        runner = self.runner
+        if runner is not None and runner.snapshot().phase == "running":
+            if "dynamometer" in runner.devices:
+                runner.emergency_stop("window closed during the trial")
+            else:
+                runner.request_stop()
+            runner.wait(10.0)
+        self.timer.stop()
+        self._stack.close()
+        if self.monitor_engine is not None:
+            self.monitor_engine.stop()
+            self.monitor_engine.close()
+        super().closeEvent(event)
+
+
+def analyse_set(protocol: TrialProtocol, store_root: Any, trial_id: int, subject: dict[str, float]) -> str:
+    """The analysis of the set the accepted trial belongs to, as text (runs on a worker thread)."""
+    from ..export import trial_table
+    from ..recording import read_trial
+
+    store = SessionStore(store_root, read_only=True, recover=False)
+    try:
+        rec = store.trial(trial_id)
+        same = [t for t in store.trials(protocol=protocol.name) if t.session_id == rec.session_id
+                and t.status == "accepted"]
+        if isinstance(protocol, AadsProtocol):
+            from analysis.aads.model import load_jig_model
+
+            from ..afo import analyze_afo, resolve_trials
+
+            model = load_jig_model()
+            ids = [str(t.id) for t in same if t.condition.get("spring") == protocol.spring]
+            exp = analyze_afo(resolve_trials(ids, store, model=model), model)
+            k = [r.stiffness_nm_per_deg for r in exp.results]
+            lines = [f"spring {protocol.spring}: {len(k)} accepted trial(s), stiffness "
+                     f"{np.nanmean(k):.3f} ± {np.nanstd(k):.3f} N·m/° (fit 6–20°)"]
+            return "\n".join(lines)
+        tables = [trial_table(read_trial(t.path), store.subject(t.subject_code).as_dict()) for t in same]
+        from analysis.diagnosis import diagnose, from_table
+
+        diag = diagnose(from_table(tables[-1])).text().splitlines()[0] if tables else ""
+        if isinstance(protocol, ReplicaProtocol):
+            from analysis.pmp.replica import text
+
+            from ..replica import analyze_replica
+
+            result, truth, _ = analyze_replica(tables, [read_trial(t.path).metadata for t in same], None, None)
+            return text(result, truth) + ("\ndiagnosis: " + diag if diag else "")
+        from analysis.pmp.report import analyse, subject_from, text as pmp_text, trial_from_table
+
+        report = analyse([trial_from_table(t) for t in tables], subject_from(subject), intervals=16)
+        return pmp_text(report) + ("\ndiagnosis: " + diag if diag else "")
+    finally:
+        store.close()
+
+
+__all__ = ["MainWindow", "FrameCounter", "analyse_set", "PROTOCOL_NAMES"]

@@ -1,0 +1,77 @@
+"""Where a trial's devices come from: the simulated lab, or the lab's hardware by URL (Qt-free).
+
+A source hands out opened-on-demand drivers for one protocol inside a context; the GUI and the
+CLI hold it for the length of a trial. The simulated source also plays the people in the room:
+it can make the relaxed subject activate a muscle (a burst of known size, for drills and tests).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from contextlib import contextmanager
+from typing import Any
+
+from drivers import StreamingDevice
+from drivers.simulation.lab import SimulatedLab
+from drivers.simulation.seated_leg import Burst
+
+from .errors import ProtocolError
+from .protocols import TrialProtocol
+from .simulate import OPENERS, lab_config_for, simulated_devices, simulation_metadata
+
+
+class SimulatedSource:
+    """The simulated lab, one per trial (its physics set by the protocol, ``seed`` advanced per trial)."""
+
+    simulated = True
+
+    def __init__(self, seed: int = 0) -> None:
+        self.seed = seed
+        self.lab: SimulatedLab | None = None
+
+    @contextmanager
+    def devices(self, protocol: TrialProtocol) -> Iterator[dict[str, StreamingDevice]]:
+        with simulated_devices(protocol, lab_config_for(protocol, seed=self.seed)) as (lab, devices):
+            self.lab = lab
+            try:
+                yield devices
+            finally:
+                self.lab = None
+                self.seed += 1
+
+    def metadata(self) -> dict[str, Any]:
+        return simulation_metadata(self.lab) if self.lab is not None else {}
+
+    def inject_burst(self, amplitude_nm: float, delay_s: float = 0.3, duration_s: float = 0.4) -> None:
+        """Make the simulated subject activate (a half-sine torque burst) ``delay_s`` from now."""
+        if self.lab is None:
+            raise ProtocolError("no simulated trial is running")
+        dyno = self.lab.dynamometer
+        dyno.leg.bursts.append(Burst(start_s=dyno.time_s + delay_s, amplitude_nm=amplitude_nm, duration_s=duration_s))
+
+
+class HardwareSource:
+    """The lab's devices by URL (``force_plate``, ``dynamometer``, ``torque_sensor``, ``mocap``)."""
+
+    simulated = False
+
+    def __init__(self, urls: dict[str, str]) -> None:
+        self.urls = dict(urls)
+
+    @contextmanager
+    def devices(self, protocol: TrialProtocol) -> Iterator[dict[str, StreamingDevice]]:
+        missing = [n for n in protocol.devices if n not in self.urls]
+        if missing:
+            raise ProtocolError(f"no URL configured for {', '.join(missing)} (needed by {protocol.name})")
+        devices = {n: OPENERS[n](self.urls[n]) for n in protocol.devices}
+        try:
+            yield devices
+        finally:
+            for d in devices.values():
+                d.close()
+
+    def metadata(self) -> dict[str, Any]:
+        return {"simulated": False}
+
+
+__all__ = ["SimulatedSource", "HardwareSource"]

@@ -1,0 +1,150 @@
+"""The operator window, offscreen, driving each protocol end to end against the simulators (pytest-qt)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("pytestqt")
+from PySide6 import QtCore, QtGui  # noqa: E402
+
+from drivers.dynamometer.protocol import State  # noqa: E402
+from instrument.gui.window import PROTOCOL_NAMES, MainWindow  # noqa: E402
+from instrument.recording import read_trial  # noqa: E402
+from instrument.sources import SimulatedSource  # noqa: E402
+from instrument.store import SessionStore  # noqa: E402
+
+
+def non_blank(path: Path) -> bool:
+    """A screenshot with real content: many distinct colours, not one flat fill."""
+    img = QtGui.QImage(str(path))
+    if img.isNull() or img.width() < 200:
+        return False
+    px = np.array([img.pixel(x, y) for x in range(0, img.width(), 7) for y in range(0, img.height(), 7)])
+    return len(np.unique(px)) > 20
+
+
+@pytest.fixture
+def window(qtbot, tmp_path: Path):  # noqa: ANN201
+    store = SessionStore(tmp_path / "store")
+    source = SimulatedSource(seed=3)
+    w = MainWindow(store, source, subject_code="GUI01")
+    w.resize(1280, 800)
+    qtbot.addWidget(w)
+    w.show()
+    w.set_subject(75.0, 0.42, 0.26)
+    yield w
+    w.close()
+    store.close()
+
+
+def run_to_end(qtbot, w: MainWindow, timeout_s: float = 60.0) -> None:
+    qtbot.waitUntil(lambda: w.runner is not None and w.runner.snapshot().phase in ("done", "failed"),
+                    timeout=int(timeout_s * 1000))
+    qtbot.waitUntil(lambda: w.verdict.text().startswith(("Trial finished", "Trial failed")), timeout=5000)
+
+
+def test_every_screen_renders(window: MainWindow, tmp_path: Path) -> None:
+    for i, name in enumerate(PROTOCOL_NAMES):
+        window.protocol_box.setCurrentIndex(i)
+        QtCore.QCoreApplication.processEvents()
+        shot = tmp_path / f"screen-{i}-{name.split()[0].lower()}.png"
+        assert window.grab().save(str(shot))
+        assert non_blank(shot), shot
+        # the checklist gates the start button
+        assert not window.start_button.isEnabled()
+        window.confirm_checklist()
+        assert window.start_button.isEnabled()
+
+
+def test_knee_trial_flags_a_burst_is_repeated_then_accepted(qtbot, window: MainWindow, tmp_path: Path) -> None:
+    window.protocol_box.setCurrentIndex(1)
+    window.end_spin.setValue(20.0)
+    window.speed_spin.setValue(10.0)
+    window.confirm_checklist()
+    qtbot.mouseClick(window.start_button, QtCore.Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: window.runner is not None and window.runner._sweep_started, timeout=20000)
+    window.source.inject_burst(4.0, delay_s=0.5)
+    run_to_end(qtbot, window)
+    snap = window.runner.snapshot()
+    assert snap.alarms, "a 4 N·m burst must be flagged"
+    assert "activation" in window.verdict.text().lower() or "Suggest repeat" in window.verdict.text()
+    shot = tmp_path / "knee-activation.png"
+    window.grab().save(str(shot))
+    assert non_blank(shot)
+    first = snap.outcome.trial_id
+    qtbot.mouseClick(window.repeat_button, QtCore.Qt.MouseButton.LeftButton)
+    rec = window.store.trial(first)
+    assert rec.status == "rejected" and "activation" in rec.reason
+    assert read_trial(rec.path).devices["dynamometer"].samples > 100  # a rejected trial keeps its data
+    events = [e["kind"] for e in read_trial(rec.path).events]
+    assert "activation" in events
+    # repeat the same condition, relaxed this time
+    qtbot.mouseClick(window.start_button, QtCore.Qt.MouseButton.LeftButton)
+    run_to_end(qtbot, window)
+    assert not window.runner.snapshot().alarms
+    qtbot.mouseClick(window.accept_button, QtCore.Qt.MouseButton.LeftButton)
+    second = window.runner.snapshot().outcome.trial_id
+    assert window.store.trial(second).status == "accepted"
+    qtbot.waitUntil(lambda: window.analysis_text != "", timeout=120000)  # the set's fit, in the background
+    assert "fit:" in window.analysis_text and "diagnosis" in window.analysis_text
+
+
+def test_escape_is_an_emergency_stop_that_reaches_the_dynamometer(qtbot, window: MainWindow) -> None:
+    window.protocol_box.setCurrentIndex(2)
+    window.confirm_checklist()
+    qtbot.mouseClick(window.start_button, QtCore.Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: window.runner is not None and window.runner._sweep_started, timeout=20000)
+    lab = window.source.lab
+    qtbot.keyClick(window, QtCore.Qt.Key.Key_Escape)
+    qtbot.waitUntil(lambda: lab.dynamometer.state == State.ESTOP, timeout=2000)
+    run_to_end(qtbot, window)
+    snap = window.runner.snapshot()
+    assert snap.emergency_stop_s is not None and snap.estop_confirmed_s is not None
+    rec = window.store.trial(snap.outcome.trial_id)
+    assert rec.status == "interrupted"
+    assert "emergency_stop" in [e["kind"] for e in read_trial(rec.path).events]
+    assert "emergency stop" in (window.runner.suggested_rejection() or "")
+
+
+def test_aads_trial_draws_the_loop_and_checks_the_fit_window(qtbot, window: MainWindow, tmp_path: Path) -> None:
+    window.protocol_box.setCurrentIndex(0)
+    window.confirm_checklist()
+    qtbot.mouseClick(window.start_button, QtCore.Qt.MouseButton.LeftButton)
+    run_to_end(qtbot, window)
+    snap = window.runner.snapshot()
+    assert snap.aads_angle_deg.size > 100 and snap.aads_covers_window
+    x, y = window.curve_a.getData()
+    assert x is not None and len(x) > 100  # the loop is on screen
+    shot = tmp_path / "aads-loop.png"
+    window.grab().save(str(shot))
+    assert non_blank(shot)
+    qtbot.mouseClick(window.accept_button, QtCore.Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: window.analysis_text != "", timeout=60000)
+    assert "N·m/°" in window.analysis_text and "failed" not in window.analysis_text
+    assert window.aads_trial.value() == 2  # the next trial number is offered
+
+
+def test_replica_trial_and_closing_mid_trial_keeps_the_data(qtbot, window: MainWindow) -> None:
+    window.protocol_box.setCurrentIndex(3)
+    window.hold_spin.setValue(0.4)
+    window.confirm_checklist()
+    qtbot.mouseClick(window.start_button, QtCore.Qt.MouseButton.LeftButton)
+    run_to_end(qtbot, window)
+    qtbot.mouseClick(window.accept_button, QtCore.Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: window.analysis_text != "", timeout=60000)
+    assert "VASINT" in window.analysis_text
+    # a knee trial, closed mid-sweep: the dynamometer is stopped and the recording kept
+    window.protocol_box.setCurrentIndex(1)
+    window.confirm_checklist()
+    qtbot.mouseClick(window.start_button, QtCore.Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: window.runner is not None and window.runner._sweep_started, timeout=20000)
+    runner = window.runner
+    window.close()
+    snap = runner.snapshot()
+    assert snap.phase == "done" and snap.emergency_stop_s is not None
+    rec = window.store.trial(snap.outcome.trial_id)
+    assert rec.status == "interrupted"
+    assert read_trial(rec.path).devices["dynamometer"].samples > 50
