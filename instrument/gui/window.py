@@ -168,6 +168,8 @@ class MainWindow(QtWidgets.QMainWindow):
         self.instructions.setStyleSheet("font-size:14px; padding:4px")
         main.addWidget(self.instructions)
         self.plots = pg.GraphicsLayoutWidget()
+        # repaint only what changed (the curves), not the axes' text every frame
+        self.plots.setViewportUpdateMode(QtWidgets.QGraphicsView.ViewportUpdateMode.SmartViewportUpdate)
         main.addWidget(self.plots, 1)
         self.plot_a = self.plots.addPlot(row=0, col=0)
         self.plot_b = self.plots.addPlot(row=1, col=0)
@@ -175,8 +177,9 @@ class MainWindow(QtWidgets.QMainWindow):
             p.showGrid(x=True, y=True, alpha=0.3)
             p.setClipToView(True)
             p.setDownsampling(mode="peak")
-        self.curve_a = self.plot_a.plot(pen=pg.mkPen("#1f77b4", width=2))
-        self.curve_b = self.plot_b.plot(pen=pg.mkPen("#ff7f0e", width=2))
+        self.curve_a = self.plot_a.plot(pen=pg.mkPen("#1f77b4", width=1))  # width 1: thick pens are slow in Qt raster
+        self.curve_b = self.plot_b.plot(pen=pg.mkPen("#ff7f0e", width=1))
+        self.curve_c = self.plot_a.plot(pen=pg.mkPen("#2ca02c", width=1))  # monitor: the replica torque sensor
         self.alarm_points = pg.ScatterPlotItem(size=14, brush=pg.mkBrush(220, 0, 0, 200), symbol="x")
         self.plot_a.addItem(self.alarm_points)
         self.window_region = pg.LinearRegionItem(values=(6.0, 20.0), movable=False, brush=pg.mkBrush(0, 160, 0, 40))
@@ -280,6 +283,7 @@ class MainWindow(QtWidgets.QMainWindow):
             self.plot_b.setLabels(left="shaft speed (rpm)", bottom="time (s)")
         self.curve_a.setData([], [])
         self.curve_b.setData([], [])
+        self.curve_c.setData([], [])
         self.alarm_points.setData([], [])
 
     def _update_buttons(self) -> None:
@@ -387,7 +391,14 @@ class MainWindow(QtWidgets.QMainWindow):
 
     # ------------------------------------------------------------------ refresh (timer)
     def _refresh(self) -> None:
+        t_start = time.perf_counter()
         self.frames.tick()
+        try:
+            self._refresh_inner()
+        finally:
+            self.refresh_ms = max(getattr(self, "refresh_ms", 0.0), (time.perf_counter() - t_start) * 1e3)
+
+    def _refresh_inner(self) -> None:
         runner = self.runner
         engine = runner.engine if runner is not None else self.monitor_engine
         if engine is not None:
@@ -413,7 +424,9 @@ class MainWindow(QtWidgets.QMainWindow):
     def _plot(self, engine: AcquisitionEngine, runner: TrialRunner | None) -> None:
         rings = engine.rings
         key = runner.protocol.name if runner is not None else "monitor"
-        if key in ("knee", "ankle") or (key == "monitor" and "dynamometer" in rings):
+        if key == "monitor":
+            self._plot_monitor(rings)
+        elif key in ("knee", "ankle"):
             d = rings["dynamometer"].latest()
             if len(d["time_s"]):
                 t0 = d["time_s"][0]
@@ -438,6 +451,30 @@ class MainWindow(QtWidgets.QMainWindow):
                 self.curve_a.setData(d["time_s"] - d["time_s"][0], d["torque_nm"])
                 if "speed_rpm" in d:
                     self.curve_b.setData(d["time_s"] - d["time_s"][0], d["speed_rpm"])
+
+    def _plot_monitor(self, rings: dict[str, Any]) -> None:
+        """Every device streaming, nothing recorded: dynamometer and sensor torque, plate Fz (last 10 s).
+
+        The time axes are fixed (−10…0 s, the newest sample at 0), so the axes are not redrawn
+        every frame as the data scrolls: axis text is most of a frame's cost."""
+        if not getattr(self, "_monitor_axes", False):
+            for p in (self.plot_a, self.plot_b):
+                p.setXRange(-10.0, 0.0, padding=0)
+                p.disableAutoRange(axis="x")
+            self._monitor_axes = True
+        if "dynamometer" in rings:
+            d = rings["dynamometer"].latest(1000)
+            if len(d["time_s"]):
+                self.curve_a.setData(d["time_s"] - d["time_s"][-1], d["torque_nm"])
+        if "torque_sensor" in rings:
+            d = rings["torque_sensor"].latest(5000)
+            if len(d["time_s"]):
+                self.curve_c.setData(d["time_s"] - d["time_s"][-1], d["torque_nm"])
+        if "force_plate" in rings:
+            f = rings["force_plate"].latest(10000)
+            if len(f["time_s"]):
+                # 1 kHz for 10 s: every 10th sample is more than the 1280-pixel trace can show
+                self.curve_b.setData(f["time_s"][::10] - f["time_s"][-1], f["force_n"][::10, 2])
 
     def _health(self, engine: AcquisitionEngine) -> None:
         parts = []
