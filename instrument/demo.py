@@ -271,6 +271,85 @@ def replica_leg(out: Path) -> tuple[dict[str, Any], bool]:
     return to_json(result, truth), True
 
 
+def operator_drill(out: Path) -> tuple[dict[str, Any], bool]:
+    """The operator's live checks through the trial runner the GUI uses: a burst flagged and the trial
+    rejected (data kept), a relaxed repeat accepted, an emergency stop; then the GUI's screens, offscreen."""
+    import os
+    import time
+
+    from drivers.dynamometer.protocol import State
+
+    from .protocols import KneeProtocol
+    from .runner import TrialRunner
+    from .sources import SimulatedSource
+    from .store import SessionStore, Subject
+
+    print("\nOperator drill (the GUI's trial runner): 3 N·m activation burst, relaxed repeat, emergency stop ...")
+    store = SessionStore(out / "drill_store")
+    store.add_subject(Subject("DRILL", mass_kg=75.0, shank_length_m=0.42, foot_length_m=0.26))
+    session = store.new_session("DRILL", "drill-operator")
+    source = SimulatedSource(seed=11)
+    rows: dict[str, Any] = {}
+    for case in ("burst", "relaxed", "estop"):
+        proto = KneeProtocol(end_deg=25.0, speed_deg_s=10.0)
+        with source.devices(proto) as devices:
+            runner = TrialRunner(store, session, proto, devices, extra_metadata=source.metadata())
+            runner.start()
+            deadline = time.monotonic() + 20
+            while not runner._sweep_started and time.monotonic() < deadline:
+                time.sleep(0.01)
+            if case == "burst":
+                source.inject_burst(3.0, delay_s=1.2)
+            latency_ms = None
+            if case == "estop":
+                time.sleep(0.5)
+                sim = source.lab.dynamometer
+                t0 = time.perf_counter()
+                runner.emergency_stop("drill")
+                while sim.state != State.ESTOP and time.perf_counter() - t0 < 1.0:
+                    time.sleep(0.0005)
+                latency_ms = (time.perf_counter() - t0) * 1e3
+            runner.wait(30.0)
+        snap = runner.snapshot()
+        why = runner.suggested_rejection()
+        if snap.outcome is not None:
+            (runner.reject(why) if why else runner.accept())
+        status = store.trial(snap.outcome.trial_id).status if snap.outcome else "failed"
+        rows[case] = {"alarms": [a.angle_deg for a in snap.alarms], "status": status, "reason": why,
+                      "estop_latency_ms": latency_ms}
+        extra = f", e-stop reached the dynamometer in {latency_ms:.1f} ms" if latency_ms is not None else ""
+        flags = ", ".join(f"{a.angle_deg:.1f}°" for a in snap.alarms) or "none"
+        print(f"  {case:<8} activation flags: {flags}; trial {status}" + (f" ({why})" if why else "") + extra)
+    store.close()
+    ok = bool(rows["burst"]["alarms"]) and rows["burst"]["status"] == "rejected" and \
+        rows["relaxed"]["status"] == "accepted" and rows["estop"]["status"] == "rejected"
+    os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
+    try:
+        from PySide6 import QtCore, QtWidgets
+
+        from .gui.window import PROTOCOL_NAMES, MainWindow
+
+        app = QtWidgets.QApplication.instance() or QtWidgets.QApplication([])
+        gstore = SessionStore(out / "gui_store")
+        window = MainWindow(gstore, SimulatedSource())
+        window.resize(1280, 800)
+        window.show()
+        shots = out / "gui"
+        shots.mkdir(exist_ok=True)
+        for i, name in enumerate(PROTOCOL_NAMES):
+            window.protocol_box.setCurrentIndex(i)
+            app.processEvents()
+            window.grab().save(str(shots / f"{i}-{name.split()[0].lower()}.png"))
+        window.close()
+        gstore.close()
+        QtCore.QCoreApplication.processEvents()
+        rows["gui_screens"] = sorted(p.name for p in shots.glob("*.png"))
+        print(f"  GUI screens (offscreen): {', '.join(rows['gui_screens'])} in {shots}")
+    except ImportError as err:  # the GUI is optional for the demo's numbers
+        print(f"  GUI not available here: {err}")
+    return rows, ok
+
+
 def main(seconds: float = 4.0, out: Path | None = None, faults: bool = True, quick: bool = True) -> int:
     """Run the demo; returns a process exit code (0 when every device streamed cleanly)."""
     print(f"Simulated lab: force plate (serial framing over TCP), dynamometer (CAN, virtual bus), "
@@ -298,6 +377,8 @@ def main(seconds: float = 4.0, out: Path | None = None, faults: bool = True, qui
         report["afo"], afo_ok = afo_experiment(out, out / "store")
         report["pmp"], pmp_ok = passive_parameters(out)
         report["replica"], replica_ok = replica_leg(out)
+        report["operator_drill"], drill_ok = operator_drill(out)
+        replica_ok = replica_ok and drill_ok
         pmp_ok = pmp_ok and replica_ok
         report["diagnosis"] = diagnose_recordings(out)
         ok = ok and pmp_ok

@@ -318,6 +318,10 @@ class TrialRunner:
             # only the isokinetic part: moving at the set speed (the start and stop transients are
             # the dynamometer's, not the subject's)
             steady = np.abs(np.abs(vel) - self.protocol.speed_deg_s) < 0.2 * self.protocol.speed_deg_s
+            # and away from the ends, where the arm accelerates (0.3 s of travel)
+            margin = 0.3 * self.protocol.speed_deg_s
+            lo, hi = sorted((self.protocol.start_deg, self.protocol.end_deg))
+            steady &= (pos > lo + margin) & (pos < hi - margin)
             if "state" in d:
                 steady &= d["state"] == int(State.MOVING)
             if not steady.any():

@@ -63,7 +63,7 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24) -> di
                   if n.endswith("tendon_slack_length_m") and n in idf["determined"]}
     fd = [forward_dynamics(t, subject, res.parameters, leg=leg) for t in trials]
     return {"result": res, "identifiability": idf, "stiffness": stiff, "slack_per_shank_length": slack_norm,
-            "forward_dynamics": fd}
+            "forward_dynamics": fd, "leg": leg, "shank_length_m": subject.shank_length_m}
 
 
 def text(report: dict[str, Any]) -> str:
@@ -104,6 +104,54 @@ def to_json(report: dict[str, Any]) -> dict[str, Any]:
                                   "torque_rmse_Nm_per_kg": v.torque_rmse_nm_per_kg} for v in report["forward_dynamics"]]}
 
 
+def _parameter_figure(report: dict[str, Any]) -> Any:
+    """Figures 3.15–3.17 side by side: slack length per shank length, tendon stiffness (kN/m) and
+    muscle stiffness (N/m), the fit against the generic model; grey bars are not determined."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    res: PmpResult = report["result"]
+    det = set(report["identifiability"]["determined"])
+    leg: LegMuscles = report.get("leg") or LegMuscles()
+    shank = float(report.get("shank_length_m") or 0.42)
+    fig = Figure(figsize=(14, 4.2), layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(1, 3)
+
+    def bars(ax: Any, labels: list[str], fitted: list[float], generic: list[float], ok: list[bool], unit: str,
+             title: str) -> None:
+        x = np.arange(len(labels))
+        ax.bar(x - 0.2, generic, 0.4, color="0.85", edgecolor="0.5", label="generic (Rajagopal 2016)")
+        ax.bar(x + 0.2, fitted, 0.4, color=["C0" if o else "0.65" for o in ok], label="fitted (grey: not determined)")
+        ax.set_xticks(x, labels, rotation=60, fontsize=8)
+        ax.set_ylabel(unit)
+        ax.set_title(title, fontsize=10)
+        ax.legend(fontsize=7)
+
+    slack = [n for n in res.parameters if n.endswith("tendon_slack_length_m")]
+    bars(axes[0], [n.split(".")[0] for n in slack], [res.parameters[n] / shank for n in slack],
+         [res.generic[n] / shank for n in slack], [n in det for n in slack], "slack length / shank length",
+         "tendon slack length (Fig. 3.15)")
+    tendon = [n for n in res.parameters if n.endswith("tendon_strain")]
+
+    def k_tendon(vals: dict[str, float], n: str) -> float:
+        m = n.split(".")[0]
+        ls = vals.get(f"{m}.tendon_slack_length_m", leg.params[m].tendon_slack_length_m)
+        return tendon_stiffness_n_per_m(leg.paths[m].max_isometric_force_n, ls, vals[n]) / 1e3
+
+    bars(axes[1], [n.split(".")[0] for n in tendon], [k_tendon(res.parameters, n) for n in tendon],
+         [k_tendon(res.generic, n) for n in tendon], [n in det for n in tendon], "kN/m", "tendon stiffness (Fig. 3.16)")
+    fibre = [n for n in res.parameters if n.endswith("passive_strain")]
+
+    def k_muscle(vals: dict[str, float], n: str) -> float:
+        m = n.split(".")[0]
+        return muscle_stiffness_n_per_m(leg.paths[m].max_isometric_force_n, leg.optimal_fiber_length_m(m), vals[n])
+
+    bars(axes[2], [n.split(".")[0] for n in fibre], [k_muscle(res.parameters, n) for n in fibre],
+         [k_muscle(res.generic, n) for n in fibre], [n in det for n in fibre], "N/m", "muscle stiffness (Fig. 3.17)")
+    return fig
+
+
 def write_plots(report: dict[str, Any], out_dir: str | Path) -> list[Path]:
     """Measured against simulated torque and angle per trial; parameters against the generic model."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -130,19 +178,8 @@ def write_plots(report: dict[str, Any], out_dir: str | Path) -> list[Path]:
         b.legend(fontsize=7)
     files = [out / "pmp_fit.png"]
     fig.savefig(files[0], dpi=100)
-    fig2 = Figure(figsize=(10, 4), layout="constrained")
-    FigureCanvasAgg(fig2)
-    ax = fig2.subplots()
-    names = list(res.parameters)
-    ratio = [res.parameters[k] / res.generic[k] for k in names]
-    colors = ["C0" if k in report["identifiability"]["determined"] else "0.75" for k in names]
-    ax.bar(range(len(names)), ratio, color=colors)
-    ax.axhline(1.0, color="k", lw=0.8)
-    ax.set_xticks(range(len(names)), [k.replace(".tendon_slack_length_m", " Ls").replace(".passive_strain", " ε0")
-                                      .replace(".tendon_strain", " εT0") for k in names], rotation=70, fontsize=7)
-    ax.set_ylabel("estimate / generic (grey: not determined)")
     files.append(out / "pmp_parameters.png")
-    fig2.savefig(files[1], dpi=100)
+    _parameter_figure(report).savefig(files[-1], dpi=100)
     (out / "pmp_report.json").write_text(json.dumps(to_json(report), indent=2, default=float))
     files.append(out / "pmp_report.json")
     return files

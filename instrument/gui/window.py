@@ -11,7 +11,6 @@ from __future__ import annotations
 import random
 import threading
 import time
-from contextlib import ExitStack
 from typing import Any
 
 import numpy as np
@@ -61,7 +60,9 @@ class MainWindow(QtWidgets.QMainWindow):
         self.runner: TrialRunner | None = None
         self.checklist = Checklist([])
         self.monitor_engine: AcquisitionEngine | None = None
-        self._stack = ExitStack()
+        self._trial_thread: threading.Thread | None = None
+        self._setup_error: str | None = None
+        self._closing = threading.Event()
         self._session_id: int | None = None
         self._subject_code = subject_code
         self._last_verdict: str | None = None
@@ -287,7 +288,8 @@ class MainWindow(QtWidgets.QMainWindow):
         self.alarm_points.setData([], [])
 
     def _update_buttons(self) -> None:
-        running = self.runner is not None and self.runner.snapshot().phase == "running"
+        running = (self.runner is not None and self.runner.snapshot().phase == "running") or (
+            self._trial_thread is not None and self._trial_thread.is_alive() and self.runner is None)
         finished = self.runner is not None and self.runner.snapshot().phase in ("done", "failed") and \
             self._last_verdict is None
         needs_subject = self.protocol_box.currentIndex() in (1, 2)
@@ -311,26 +313,42 @@ class MainWindow(QtWidgets.QMainWindow):
         return self._session_id
 
     def start_trial(self) -> None:
+        """Start a trial; the devices are opened, run and closed on a trial thread, never on this one."""
         if not self.checklist.complete:
             self.verdict.setText("Confirm the checklist first: " + "; ".join(self.checklist.missing()))
             return
-        protocol = self.protocol()
-        self._stack.close()
-        self._stack = ExitStack()
-        try:
-            devices = self._stack.enter_context(self.source.devices(protocol))
-            self.runner = TrialRunner(self.store, self._session(), protocol, devices, operator=self.operator,
-                                      trial_number=getattr(protocol, "trial", None),
-                                      extra_metadata=self.source.metadata(), limits=self.limits)
-        except Exception as err:  # noqa: BLE001 - shown to the operator
-            self._stack.close()
-            self.verdict.setText(f"Cannot start: {err}")
+        if self._trial_thread is not None and self._trial_thread.is_alive():
             return
+        protocol = self.protocol()
+        problems = self.limits.violations(protocol)
+        if problems:
+            self.verdict.setText("Cannot start: " + "; ".join(problems))
+            return
+        session = self._session()
+        self.runner = None
+        self._setup_error = None
         self._last_verdict = None
         self._set_plot_mode(protocol.name)
-        self.runner.start()
-        self.verdict.setText(f"Recording {protocol.name} … (expected {protocol.expected_duration_s():.0f} s)")
+        self._trial_thread = threading.Thread(target=self._run_trial, args=(protocol, session), daemon=True,
+                                              name="gui-trial")
+        self._trial_thread.start()
+        self.verdict.setText(f"Opening the devices for {protocol.name} … (about {protocol.expected_duration_s():.0f} s)")
         self._update_buttons()
+
+    def _run_trial(self, protocol: TrialProtocol, session: int) -> None:
+        """Trial thread: open the devices, record through a runner, close the devices."""
+        try:
+            with self.source.devices(protocol) as devices:
+                runner = TrialRunner(self.store, session, protocol, devices, operator=self.operator,
+                                     trial_number=getattr(protocol, "trial", None),
+                                     extra_metadata=self.source.metadata(), limits=self.limits)
+                runner.start()
+                self.runner = runner
+                while not runner.wait(0.2):
+                    if self._closing.is_set() and runner.snapshot().phase == "running":
+                        runner.request_stop()
+        except Exception as err:  # noqa: BLE001 - shown to the operator by the timer
+            self._setup_error = f"{type(err).__name__}: {err}"
 
     def stop_trial(self) -> None:
         if self.runner is not None:
@@ -404,11 +422,14 @@ class MainWindow(QtWidgets.QMainWindow):
         if engine is not None:
             self._plot(engine, runner)
             self._health(engine)
+        if self._setup_error is not None and runner is None:
+            self.verdict.setText(f"Cannot start: {self._setup_error}")
+            self._setup_error = None
+            self._update_buttons()
         if runner is not None:
             snap = runner.snapshot()
             if snap.phase in ("done", "failed") and self._last_verdict is None and not self.verdict.text().startswith(
                     ("Trial finished", "Trial failed")):
-                self._stack.close()
                 why = runner.suggested_rejection()
                 if snap.phase == "failed":
                     self.verdict.setText(f"Trial failed: {snap.error}. Data recorded so far is kept.")
@@ -420,13 +441,22 @@ class MainWindow(QtWidgets.QMainWindow):
                 a = snap.alarms[-1]
                 self.verdict.setText(f"ACTIVATION flagged at {a.angle_deg:.1f}° ({a.excess_nm:+.1f} N·m): "
                                      "the trial will be offered for repeat.")
+            elif snap.phase == "running" and isinstance(runner.protocol, AadsProtocol) and snap.aads_angle_deg.size:
+                if snap.aads_past_stop:
+                    self.verdict.setText(f"WARNING: bent to {snap.aads_peak_deg:.1f}°, past the 21° stop: "
+                                         "ease off (the stop adds its own stiffness).")
+                else:
+                    self.verdict.setText(f"Recording AADS … peak {snap.aads_peak_deg:.1f}°; fit window 6–20° "
+                                         + ("covered." if snap.aads_covers_window else "not covered yet: push further."))
+            elif snap.phase == "running" and not self.verdict.text().startswith(("Recording", "EMERGENCY")):
+                self.verdict.setText(f"Recording {runner.protocol.name} …")
 
     def _plot(self, engine: AcquisitionEngine, runner: TrialRunner | None) -> None:
         rings = engine.rings
         key = runner.protocol.name if runner is not None else "monitor"
         if key == "monitor":
             self._plot_monitor(rings)
-        elif key in ("knee", "ankle"):
+        elif key in ("knee", "ankle") and "dynamometer" in rings:
             d = rings["dynamometer"].latest()
             if len(d["time_s"]):
                 t0 = d["time_s"][0]
@@ -437,7 +467,7 @@ class MainWindow(QtWidgets.QMainWindow):
                     if alarms:
                         at = np.array([a.time_s for a in alarms]) - t0
                         self.alarm_points.setData(at, np.interp(at, d["time_s"] - t0, d["torque_nm"]))
-        elif key == "aads":
+        elif key == "aads" and rings:
             snap = runner.snapshot() if runner is not None else None
             if snap is not None and snap.aads_angle_deg.size:
                 self.curve_a.setData(snap.aads_angle_deg, snap.aads_torque_nm)
@@ -491,14 +521,15 @@ class MainWindow(QtWidgets.QMainWindow):
     def closeEvent(self, event: QtGui.QCloseEvent) -> None:  # noqa: N802 - Qt override
         """Mid-trial: stop the dynamometer and end the recording (its data stays), then close the devices."""
         runner = self.runner
+        self._closing.set()
         if runner is not None and runner.snapshot().phase == "running":
             if "dynamometer" in runner.devices:
                 runner.emergency_stop("window closed during the trial")
             else:
                 runner.request_stop()
-            runner.wait(10.0)
+        if self._trial_thread is not None:
+            self._trial_thread.join(15.0)  # the window is going: let the trial file close cleanly
         self.timer.stop()
-        self._stack.close()
         if self.monitor_engine is not None:
             self.monitor_engine.stop()
             self.monitor_engine.close()

@@ -51,3 +51,8 @@ def test_demo_records_a_lab_day_into_a_store(tmp_path: Path) -> None:
     assert {"VASINT.stiffness_n_per_m", "RECFEM.stiffness_n_per_m"} <= set(replica["determined"])
     assert all(abs(replica["error_pct"][n]) < 3.5 for n in replica["determined"])
     assert (tmp_path / "replica" / "replica_fit.png").exists()
+    drill = report["operator_drill"]  # the GUI's runner: burst flagged and rejected, relaxed accepted, e-stop
+    assert drill["burst"]["alarms"] and drill["burst"]["status"] == "rejected"
+    assert drill["relaxed"]["status"] == "accepted" and not drill["relaxed"]["alarms"]
+    assert drill["estop"]["status"] == "rejected" and drill["estop"]["estop_latency_ms"] is not None
+    assert len(drill["gui_screens"]) == 4

@@ -61,12 +61,12 @@ def test_every_screen_renders(window: MainWindow, tmp_path: Path) -> None:
 
 def test_knee_trial_flags_a_burst_is_repeated_then_accepted(qtbot, window: MainWindow, tmp_path: Path) -> None:
     window.protocol_box.setCurrentIndex(1)
-    window.end_spin.setValue(20.0)
+    window.end_spin.setValue(30.0)
     window.speed_spin.setValue(10.0)
     window.confirm_checklist()
     qtbot.mouseClick(window.start_button, QtCore.Qt.MouseButton.LeftButton)
     qtbot.waitUntil(lambda: window.runner is not None and window.runner._sweep_started, timeout=20000)
-    window.source.inject_burst(4.0, delay_s=0.5)
+    window.source.inject_burst(4.0, delay_s=1.5)  # at 15° of 30°: past the detector warm-up
     run_to_end(qtbot, window)
     snap = window.runner.snapshot()
     assert snap.alarms, "a 4 N·m burst must be flagged"

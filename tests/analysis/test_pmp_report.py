@@ -1,0 +1,23 @@
+"""The passive-parameter report's figures: fit per trial, and Figures 3.15–3.17 against the generic model."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from analysis.pmp.report import _parameter_figure, analyse, to_json, write_plots
+from analysis.pmp.synthetic import simulated_subject
+
+
+def test_report_writes_the_fit_and_the_three_parameter_panels(tmp_path: Path) -> None:
+    _, trials, subject = simulated_subject(2, ("knee", "ankle"))
+    report = analyse([trials[0], trials[3]], subject, intervals=10)
+    files = write_plots(report, tmp_path)
+    assert [f.name for f in files] == ["pmp_fit.png", "pmp_parameters.png", "pmp_report.json"]
+    assert all(f.stat().st_size > 5000 for f in files[:2])
+    fig = _parameter_figure(report)
+    titles = [ax.get_title() for ax in fig.axes]
+    assert titles == ["tendon slack length (Fig. 3.15)", "tendon stiffness (Fig. 3.16)", "muscle stiffness (Fig. 3.17)"]
+    # every free parameter has a bar pair (generic, fitted) in its panel
+    n_slack = sum(n.endswith("tendon_slack_length_m") for n in report["result"].parameters)
+    assert len(fig.axes[0].patches) == 2 * n_slack
+    assert "leg" not in to_json(report)

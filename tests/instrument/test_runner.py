@@ -1,0 +1,96 @@
+"""The Qt-free trial runner: limits refuse a protocol, the relaxation check marks a burst, e-stop ends a trial."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from instrument.errors import ProtocolError
+from instrument.protocols import AnkleProtocol, KneeProtocol, ReplicaProtocol
+from instrument.recording import read_trial
+from instrument.runner import Checklist, SafetyLimits, TrialRunner, checklist_for
+from instrument.sources import HardwareSource, SimulatedSource
+from instrument.store import SessionStore, Subject
+
+
+@pytest.fixture
+def store(tmp_path: Path):  # noqa: ANN201
+    s = SessionStore(tmp_path / "store")
+    s.add_subject(Subject("R1", mass_kg=75.0))
+    yield s
+    s.close()
+
+
+def test_limits_refuse_a_protocol_outside_them() -> None:
+    limits = SafetyLimits(rom_deg=(0.0, 60.0), max_speed_deg_s=10.0)
+    assert limits.violations(KneeProtocol(end_deg=90.0))  # leaves the ROM
+    assert limits.violations(KneeProtocol(end_deg=50.0, speed_deg_s=20.0))  # too fast
+    assert not limits.violations(KneeProtocol(end_deg=50.0))
+    with pytest.raises(ProtocolError, match="range of motion"):
+        TrialRunner(None, 0, KneeProtocol(end_deg=90.0), {"dynamometer": None}, limits=limits)  # type: ignore[arg-type]
+
+
+def test_checklists_name_the_set_up_of_each_protocol() -> None:
+    knee = checklist_for(KneeProtocol(hip_flexion_deg=55.0))
+    assert any("hip at 55°" in i for i in knee) and any("gravity" in i for i in knee)
+    assert any("aligned" in i for i in checklist_for(AnkleProtocol(knee_flexion_deg=45.0)))
+    c = Checklist(checklist_for(ReplicaProtocol()))
+    assert not c.complete
+    for i in range(len(c.items)):
+        c.confirm(i)
+    assert c.complete and not c.missing()
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_burst_is_flagged_at_its_angle_and_rejection_keeps_the_data(store: SessionStore, seed: int) -> None:
+    rng = np.random.default_rng(seed)
+    amplitude = float(rng.uniform(2.0, 5.0)) * (1 if seed % 2 == 0 else -1)
+    delay = float(rng.uniform(1.0, 1.5))  # 10–15° into a 30° sweep, past the warm-up
+    source = SimulatedSource(seed=seed)
+    proto = KneeProtocol(end_deg=30.0, speed_deg_s=10.0)
+    with source.devices(proto) as devices:
+        runner = TrialRunner(store, store.new_session("R1"), proto, devices, extra_metadata=source.metadata())
+        runner.start()
+        deadline = time.monotonic() + 20
+        while not runner._sweep_started and time.monotonic() < deadline:
+            time.sleep(0.01)
+        source.inject_burst(amplitude, delay_s=delay)
+        assert runner.wait(30.0)
+    snap = runner.snapshot()
+    assert snap.phase == "done" and snap.alarms
+    reason = runner.suggested_rejection()
+    assert reason is not None and "activation" in reason
+    runner.reject(reason)
+    rec = store.trial(snap.outcome.trial_id)
+    assert rec.status == "rejected" and rec.reason == reason
+    trial = read_trial(rec.path)
+    assert trial.devices["dynamometer"].samples > 100
+    events = [e for e in trial.events if e["kind"] == "activation"]
+    assert events
+    # the flag marks where in the sweep it happened: inside the sweep, after the burst began
+    assert 8.0 <= events[0]["angle_deg"] <= 30.0
+    assert events[0]["time_s"] >= snap.alarms[0].time_s - 1e-9
+
+
+def test_relaxed_trial_is_not_flagged_and_can_be_accepted(store: SessionStore) -> None:
+    source = SimulatedSource(seed=5)
+    proto = AnkleProtocol(knee_flexion_deg=45.0, speed_deg_s=10.0)
+    with source.devices(proto) as devices:
+        runner = TrialRunner(store, store.new_session("R1"), proto, devices)
+        runner.start()
+        assert runner.wait(40.0)
+    assert runner.snapshot().alarms == [] and runner.suggested_rejection() is None
+    runner.accept()
+    assert store.trial(runner.snapshot().outcome.trial_id).status == "accepted"
+
+
+def test_verdict_before_the_end_is_refused_and_missing_urls_are_named(store: SessionStore) -> None:
+    runner = TrialRunner(store, store.new_session("R1"), KneeProtocol(), {"dynamometer": None})  # type: ignore[dict-item]
+    with pytest.raises(ProtocolError, match="not finished"):
+        runner.accept()
+    with pytest.raises(ProtocolError, match="dynamometer"):
+        with HardwareSource({}).devices(KneeProtocol()):
+            pass
