@@ -6,14 +6,14 @@ Measured: wall time and IPOPT iterations of the six-trial fit (all parameters of
 muscles at once), of the single-trial fit (knee at hip 55°), and the recovery of the determined
 parameters. Moco (``MocoStudy`` + ``MocoParameter``) on the same single-trial problem runs in a
 subprocess (its bundled CasADi cannot share a process with ours) when OpenSim is installed and the
-generic model is at ``../shared/models/Rajagopal2016.osim``; otherwise its keys are null with the
-reason.
+shared problem is ``benchmarks.pmp_moco`` (one muscle on one degree of freedom, the slack length
+unknown, 50 intervals: the problem the issue timed Moco on); without OpenSim its keys are null
+with the reason. The replica-leg fit (four springs from 12 holds) is timed too.
 """
 
 from __future__ import annotations
 
 import time
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -27,6 +27,34 @@ def _recovery(truth: LegMuscles, res: Any, idf: dict[str, Any]) -> float:
     errs = [abs(res.parameters[n] / getattr(truth.params[n.split(".")[0]], n.split(".")[1]) - 1) * 100
             for n in idf["determined"]]
     return float(max(errs)) if errs else float("nan")
+
+
+def _moco_comparison() -> dict[str, Any]:
+    """The shared single-trial problem (``benchmarks.pmp_moco``) by this estimator and by Moco, same run."""
+    import importlib.util
+
+    from . import pmp_moco
+
+    data = pmp_moco.trial(0)
+    ours = pmp_moco.solve_ours(data)
+    out: dict[str, Any] = {"shared_problem": "1 DOF, 1 DeGroote–Fregly muscle (rigid tendon), slack length, "
+                                             "50 Hermite–Simpson intervals", "shared_truth_slack_m": pmp_moco.SLACK_TRUE_M,
+                           "ours_shared_s": ours["wall_s"], "ours_shared_iterations": ours["iterations"],
+                           "ours_shared_slack_m": ours["slack_m"], "moco_single_trial_s": None, "speedup_vs_moco": None,
+                           "max_param_diff_vs_moco_pct": None}
+    if importlib.util.find_spec("opensim") is None:
+        out["moco_note"] = "not run: OpenSim is not installed (pip install -e '.[opensim]')"
+        return out
+    try:
+        moco = pmp_moco.solve_moco(data)
+    except (RuntimeError, OSError) as err:
+        out["moco_note"] = f"Moco failed: {str(err)[-300:]}"
+        return out
+    out.update({"moco_single_trial_s": moco["wall_s"], "moco_iterations": moco["iterations"],
+                "moco_status": moco["status"], "moco_slack_m": moco["slack_m"],
+                "speedup_vs_moco": moco["wall_s"] / ours["wall_s"],
+                "max_param_diff_vs_moco_pct": abs(moco["slack_m"] - ours["slack_m"]) / moco["slack_m"] * 100})
+    return out
 
 
 def _replica_fit() -> dict[str, Any]:
@@ -61,12 +89,7 @@ def run(quick: bool = False) -> dict[str, Any]:
     single_s = time.perf_counter() - t0
     idf_single = identifiability(single, [knee[1]], subject)
     replica = _replica_fit()
-    model = Path(__file__).resolve().parents[2] / "shared" / "models" / "Rajagopal2016.osim"
-    moco: dict[str, Any] = {"moco_single_trial_s": None, "speedup_vs_moco": None, "max_param_diff_vs_moco_pct": None,
-                            "moco_note": "not run: the Moco comparison (MocoStudy + MocoParameter on the generic model "
-                                         "with DeGrooteFregly2016 muscles) is not built yet"}
-    if not model.exists():
-        moco["moco_note"] = f"not run: {model} is not here"
+    moco = _moco_comparison()
     out = {"quick": quick, "intervals_per_trial": intervals, "trials_full_subject": len(knee + ankle),
            "parameters_full_subject": len(full.parameters), "full_subject_fit_s": full_s,
            "full_subject_iterations": full.iterations, "full_subject_ipopt_s": full.solve_s,

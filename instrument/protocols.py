@@ -65,12 +65,22 @@ class AadsProtocol(TrialProtocol):
     operator: int = 1
     trial: int = 1
     duration_s: float = 6.0
+    afo: str = "hinged AFO (default jig)"
+    #: False where the motion-capture system has no public real-time stream: the trial is guided by
+    #: the plate alone and the angle comes afterwards from the lab's C3D export
+    live_markers: bool = True
+    #: the operator's hand: ``unload(True)`` lifts the AFO off the plate for zeroing, ``unload(False)``
+    #: puts it back; a GUI prompt on the bench, the simulator in simulation
+    unload: Callable[[bool], None] | None = field(default=None, repr=False, compare=False)
+    plate_zero_v: list[float] | None = None
 
     def __post_init__(self) -> None:
         if self.spring not in AADS_SPRINGS_N_PER_M:
             raise ProtocolError(f"spring must be one of {sorted(AADS_SPRINGS_N_PER_M)}, got {self.spring}")
         if not 1 <= self.operator <= 4:
             raise ProtocolError(f"operator must be 1..4, got {self.operator}")
+        if not self.live_markers:
+            self.devices = ("force_plate",)  # type: ignore[misc]  # this trial's devices, not the class's
 
     @property
     def spring_n_per_m(self) -> float:
@@ -78,7 +88,24 @@ class AadsProtocol(TrialProtocol):
 
     def condition(self) -> dict[str, Any]:
         return {"spring": self.spring, "spring_n_per_m": self.spring_n_per_m, "operator": self.operator,
-                "trial": self.trial, "fit_window_deg": [6.0, 20.0], "stop_deg": 21.0}
+                "trial": self.trial, "fit_window_deg": [6.0, 20.0], "stop_deg": 21.0, "afo": self.afo,
+                "live_markers": self.live_markers, "plate_zeroed_unloaded": self.plate_zero_v is not None}
+
+    def prepare(self, devices: dict[str, StreamingDevice]) -> None:
+        """Zero the plate with the AFO lifted off, when the operator's hand is available; the
+        zeroing samples are dropped, not recorded."""
+        if self.unload is None:
+            return
+        plate = devices["force_plate"]
+        self.unload(True)
+        try:
+            plate.start()
+            time.sleep(0.05)  # the lifted AFO settles
+            self.plate_zero_v = [float(v) for v in plate.tare(samples=200)]  # type: ignore[attr-defined]
+        finally:
+            self.unload(False)
+        time.sleep(0.05)
+        plate.read_available()  # the zeroing stream is not part of the trial
 
     def drive(self, devices: dict[str, StreamingDevice], mark: Any, stop: threading.Event) -> None:
         mark("bend_start", operator=self.operator)

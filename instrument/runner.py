@@ -207,7 +207,8 @@ class TrialRunner:
             return f"muscle activation detected at {a.angle_deg:.1f}° (t = {a.time_s:.1f} s, {a.excess_nm:+.1f} N·m)"
         if s.limit_breaches:
             return "limit breached: " + s.limit_breaches[0]
-        if isinstance(self.protocol, AadsProtocol) and s.phase == "done" and not s.aads_covers_window:
+        if isinstance(self.protocol, AadsProtocol) and self.protocol.live_markers and s.phase == "done" \
+                and not s.aads_covers_window:
             return "bend did not cover the 6–20° fit window"
         return None
 

@@ -56,6 +56,9 @@ def simulated_devices(protocol: TrialProtocol, config: LabConfig | None = None) 
     """A running simulated lab for ``protocol`` and its (unopened) drivers; both closed on exit."""
     lab = SimulatedLab(config or lab_config_for(protocol))
     devices = {name: OPENERS[name](lab.urls[name]) for name in protocol.devices}
+    if isinstance(protocol, AadsProtocol) and protocol.unload is None:
+        # the simulated operator lifts the AFO off the plate for zeroing
+        protocol.unload = lambda off: setattr(lab.force_plate, "specimen_on_plate", not off)
     if isinstance(protocol, ReplicaProtocol) and protocol.unload is None:
         # the simulated operator's hand: shank off the sensor for the tare, then back on
         protocol.unload = lambda off: setattr(lab.torque_sensor, "shank_attached", not off)

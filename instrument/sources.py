@@ -24,6 +24,7 @@ class SimulatedSource:
     """The simulated lab, one per trial (its physics set by the protocol, ``seed`` advanced per trial)."""
 
     simulated = True
+    live_markers = True
 
     def __init__(self, seed: int = 0) -> None:
         self.seed = seed
@@ -57,6 +58,8 @@ class HardwareSource:
 
     def __init__(self, urls: dict[str, str]) -> None:
         self.urls = dict(urls)
+        #: a motion-capture stream configured: AADS trials get the live loop; else force-guided
+        self.live_markers = "mocap" in self.urls
 
     @contextmanager
     def devices(self, protocol: TrialProtocol) -> Iterator[dict[str, StreamingDevice]]:

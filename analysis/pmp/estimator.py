@@ -191,8 +191,13 @@ def _eliminate_tendons(moment: Any, residuals: list[Any], lts: list[Any], args: 
 
 
 def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None = None, intervals: int = 40,
-             max_iter: int = 300, initial: dict[str, float] | None = None) -> PmpResult:
+             max_iter: int = 300, initial: dict[str, float] | None = None, parameters: ParameterSet | None = None,
+             moment: Any = None) -> PmpResult:
     """Fit the passive parameters shared by ``trials`` (all at once).
+
+    ``parameters`` and ``moment(trial, q, par) → (moment, equilibrium residuals, tendon symbols)``
+    replace the eleven-muscle leg with another passive model (a test rig, or the single-muscle
+    problem the Moco benchmark shares with OpenSim); by default the leg's muscles.
 
     :raises InputError: a trial is empty or moves another joint than knee/ankle.
     :raises FitError: IPOPT does not converge.
@@ -204,7 +209,8 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
     if not trials:
         raise InputError("no trials to fit")
     leg = leg or LegMuscles()
-    pset = free_parameters(leg, trials)
+    pset = parameters or free_parameters(leg, trials)
+    passive = moment or (lambda trial, q, par: _muscles_moment(leg, trial, q, par))
     n_par = len(pset.names)
     opti = ca.Opti()
     p_scaled = opti.variable(n_par)  # parameter = generic · p_scaled
@@ -236,7 +242,7 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
         # the point dynamics as one SX function, mapped over every collocation point (a small MX graph)
         qs, us, ps = ca.SX.sym("q"), ca.SX.sym("u"), ca.SX.sym("p", n_par)
         par_s = {n: pset.generic[i] * ps[i] for i, n in enumerate(pset.names)}
-        muscles, residuals, calf = _muscles_moment(leg, t, qs, par_s)
+        muscles, residuals, calf = passive(t, qs, par_s)
         moment = subject.gravity_moment_nm(t.joint, qs, t.fixed_rad, ca.cos) + muscles
         lts = ca.vertcat(*calf) if calf else ca.SX.sym("lt", 0)
         lt = opti.variable(len(calf), n_pts) if calf else None

@@ -42,6 +42,8 @@ class ForcePlateSimulator:
                  faults: FaultConfig | None = None, noise_n: float = 0.25, port: int = 0,
                  seed: int = 0, autostart: bool = True) -> None:
         self.jig = jig
+        #: False while the operator has lifted the AFO off the plate (e.g. to zero it): no load
+        self.specimen_on_plate = True
         self.info = default_plate_info(rate_hz)
         self.rate_hz = rate_hz
         self.baud = baud
@@ -118,7 +120,7 @@ class ForcePlateSimulator:
 
     def loads_at(self, counters: np.ndarray) -> np.ndarray:
         """Six true loads (n, 6) at device counters, plus sensor noise."""
-        if self.jig is not None:
+        if self.jig is not None and self.specimen_on_plate:
             # the operator's trial repeats: evaluate the physics once per period, then index it
             n = int(round(self.jig.profile.duration_s * self.rate_hz))
             if self._table is None or self._table.shape[0] != n:
@@ -126,7 +128,7 @@ class ForcePlateSimulator:
                 self._table = np.hstack([st.force_n, st.moment_nm])
             loads = self._table[counters % n]
         else:
-            loads = np.zeros((t.size, 6))
+            loads = np.zeros((np.asarray(counters).size, 6))
         sd = self.noise_n * self.faults.noise_scale
         if sd > 0:
             loads = loads + self.rng.normal(0.0, 1.0, loads.shape) * np.array([sd, sd, sd, sd * .05, sd * .05, sd * .05])

@@ -106,8 +106,12 @@ class MainWindow(QtWidgets.QMainWindow):
         self.end_spin = QtWidgets.QDoubleSpinBox(minimum=5.0, maximum=90.0, value=90.0, suffix=" °")
         self.hold_spin = QtWidgets.QDoubleSpinBox(minimum=0.3, maximum=10.0, value=2.0, suffix=" s")
         self.seconds_spin = QtWidgets.QDoubleSpinBox(minimum=2.0, maximum=30.0, value=6.0, suffix=" s")
+        self.afo_edit = QtWidgets.QLineEdit("hinged AFO (default jig)")
+        self.live_markers_box = QtWidgets.QCheckBox("live markers (else force-guided; angle from the C3D export)")
+        self.live_markers_box.setChecked(bool(getattr(self.source, "live_markers", True)))
         self.rows: dict[str, list[QtWidgets.QWidget]] = {}
-        for key, label, w in (("aads", "Spring", self.spring_box), ("aads", "Operator", self.aads_operator),
+        for key, label, w in (("aads", "AFO", self.afo_edit), ("aads", "", self.live_markers_box),
+                              ("aads", "Spring", self.spring_box), ("aads", "Operator", self.aads_operator),
                               ("aads", "Trial", self.aads_trial), ("aads", "Bend time", self.seconds_spin),
                               ("aads", "", self.order_button), ("aads", "", self.order_label),
                               ("knee", "Hip flexion (°)", self.hip_box), ("ankle", "Knee flexion (°)", self.knee_box),
@@ -202,7 +206,9 @@ class MainWindow(QtWidgets.QMainWindow):
         i = self.protocol_box.currentIndex()
         if i == 0:
             return AadsProtocol(spring=self.spring_box.currentIndex() + 1, operator=self.aads_operator.value(),
-                                trial=self.aads_trial.value(), duration_s=self.seconds_spin.value())
+                                trial=self.aads_trial.value(), duration_s=self.seconds_spin.value(),
+                                afo=self.afo_edit.text().strip() or "unnamed AFO",
+                                live_markers=self.live_markers_box.isChecked())
         if i == 1:
             return KneeProtocol(hip_flexion_deg=float(self.hip_box.currentText()), speed_deg_s=self.speed_spin.value(),
                                 end_deg=self.end_spin.value())
@@ -441,6 +447,10 @@ class MainWindow(QtWidgets.QMainWindow):
                 a = snap.alarms[-1]
                 self.verdict.setText(f"ACTIVATION flagged at {a.angle_deg:.1f}° ({a.excess_nm:+.1f} N·m): "
                                      "the trial will be offered for repeat.")
+            elif snap.phase == "running" and isinstance(runner.protocol, AadsProtocol) and not runner.protocol.live_markers:
+                self.verdict.setText("Recording AADS, force-guided: bend until the plate's load peaks and return; the "
+                                     "angle comes from the motion-capture system's C3D export "
+                                     "(instrument analyze afo FILE.c3d).")
             elif snap.phase == "running" and isinstance(runner.protocol, AadsProtocol) and snap.aads_angle_deg.size:
                 if snap.aads_past_stop:
                     self.verdict.setText(f"WARNING: bent to {snap.aads_peak_deg:.1f}°, past the 21° stop: "
@@ -546,6 +556,9 @@ def analyse_set(protocol: TrialProtocol, store_root: Any, trial_id: int, subject
         rec = store.trial(trial_id)
         same = [t for t in store.trials(protocol=protocol.name) if t.session_id == rec.session_id
                 and t.status == "accepted"]
+        if isinstance(protocol, AadsProtocol) and not protocol.live_markers:
+            return ("force-guided AADS trial recorded; its stiffness needs the markers: export the C3D from the "
+                    "motion-capture system and run `instrument analyze afo FILE.c3d`.")
         if isinstance(protocol, AadsProtocol):
             from analysis.aads.model import load_jig_model
 

@@ -94,3 +94,27 @@ def test_verdict_before_the_end_is_refused_and_missing_urls_are_named(store: Ses
     with pytest.raises(ProtocolError, match="dynamometer"):
         with HardwareSource({}).devices(KneeProtocol()):
             pass
+
+
+def test_aads_zeroes_the_plate_with_the_afo_lifted_and_runs_force_guided_without_markers(store: SessionStore) -> None:
+    from drivers.simulation.aads_jig import AadsJig
+    from instrument.protocols import AadsProtocol
+
+    assert AadsProtocol.devices == ("force_plate", "mocap")
+    proto = AadsProtocol(spring=1, duration_s=3.0, live_markers=False, afo="test AFO")
+    assert proto.devices == ("force_plate",) and AadsProtocol.devices == ("force_plate", "mocap")
+    source = SimulatedSource(seed=2)
+    with source.devices(proto) as devices:
+        assert set(devices) == {"force_plate"}
+        runner = TrialRunner(store, store.new_session("R1"), proto, devices)
+        runner.start()
+        assert runner.wait(30.0)
+    snap = runner.snapshot()
+    assert snap.phase == "done" and runner.suggested_rejection() is None  # no loop to judge without markers
+    rec = store.trial(snap.outcome.trial_id)
+    assert rec.condition["plate_zeroed_unloaded"] and rec.condition["afo"] == "test AFO"
+    fz = read_trial(rec.path).devices["force_plate"].channels["force_n"][:, 2]
+    geo = AadsJig().geometry
+    weight = (geo.foot_mass_kg + geo.shank_mass_kg) * 9.81
+    # zeroed with nothing on the plate, it reads at least the AFO's weight (plus the operator's push)
+    assert np.percentile(fz, 5) > 0.9 * weight
