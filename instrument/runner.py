@@ -162,12 +162,20 @@ class TrialRunner:
         with self._lock:
             if self._state.emergency_stop_s is None:
                 self._state.emergency_stop_s = time.monotonic()
-        self._mark("emergency_stop", reason=reason)
         if isinstance(dyno, Dynamometer):
-            # the command thread ends the trial once the telemetry shows the stop (so the
+            # one CAN frame on the highest-priority id, no acknowledgement awaited: handing it to the
+            # bus here does not wait on the device, and a thread start would add milliseconds
+            sent = None
+            try:
+                dyno.emergency_stop()
+            except Exception as err:  # noqa: BLE001 - retried by the confirming thread
+                sent = err
+            self._mark("emergency_stop", reason=reason)
+            # the confirming thread ends the trial once the telemetry shows the stop (so the
             # recording holds it), or after 1 s without that confirmation
-            threading.Thread(target=self._send_estop, args=(dyno,), daemon=True, name="estop").start()
+            threading.Thread(target=self._confirm_estop, args=(dyno, sent), daemon=True, name="estop").start()
         else:
+            self._mark("emergency_stop", reason=reason)
             self.stop_event.set()
 
     def wait(self, timeout_s: float | None = None) -> bool:
@@ -226,9 +234,10 @@ class TrialRunner:
         else:
             self._events.append((kind, fields))
 
-    def _send_estop(self, dyno: Dynamometer) -> None:
+    def _confirm_estop(self, dyno: Dynamometer, send_error: Exception | None) -> None:
         try:
-            dyno.emergency_stop()
+            if send_error is not None:
+                dyno.emergency_stop()  # the first send failed: once more, or report why
             deadline = time.monotonic() + 1.0
             while time.monotonic() < deadline:
                 status = getattr(dyno, "status", None)
