@@ -323,8 +323,9 @@ class MainWindow(QtWidgets.QMainWindow):
         if not self.checklist.complete:
             self.verdict.setText("Confirm the checklist first: " + "; ".join(self.checklist.missing()))
             return
-        if self._trial_thread is not None and self._trial_thread.is_alive():
-            return
+        if (self.runner is not None and self.runner.snapshot().phase == "running") or (
+                self.runner is None and self._trial_thread is not None and self._trial_thread.is_alive()):
+            return  # a trial is running or opening its devices
         protocol = self.protocol()
         problems = self.limits.violations(protocol)
         if problems:
@@ -335,14 +336,17 @@ class MainWindow(QtWidgets.QMainWindow):
         self._setup_error = None
         self._last_verdict = None
         self._set_plot_mode(protocol.name)
-        self._trial_thread = threading.Thread(target=self._run_trial, args=(protocol, session), daemon=True,
-                                              name="gui-trial")
+        # the previous trial's devices may still be closing: the new trial thread waits for that
+        self._trial_thread = threading.Thread(target=self._run_trial, args=(protocol, session, self._trial_thread),
+                                              daemon=True, name="gui-trial")
         self._trial_thread.start()
         self.verdict.setText(f"Opening the devices for {protocol.name} … (about {protocol.expected_duration_s():.0f} s)")
         self._update_buttons()
 
-    def _run_trial(self, protocol: TrialProtocol, session: int) -> None:
-        """Trial thread: open the devices, record through a runner, close the devices."""
+    def _run_trial(self, protocol: TrialProtocol, session: int, previous: threading.Thread | None) -> None:
+        """Trial thread: wait for the previous trial's devices to close, open these, record, close them."""
+        if previous is not None:
+            previous.join()
         try:
             with self.source.devices(protocol) as devices:
                 runner = TrialRunner(self.store, session, protocol, devices, operator=self.operator,
