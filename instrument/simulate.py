@@ -55,7 +55,10 @@ def simulated_devices(protocol: TrialProtocol, config: LabConfig | None = None) 
         tuple[SimulatedLab, dict[str, StreamingDevice]]]:
     """A running simulated lab for ``protocol`` and its (unopened) drivers; both closed on exit."""
     lab = SimulatedLab(config or lab_config_for(protocol))
-    devices = {name: OPENERS[name](lab.urls[name]) for name in protocol.devices}
+    # the simulated transmitter answers over a loopback socket from a thread of this process: on a
+    # loaded host a 50 ms poll timeout (the real link's) counts scheduler delays as lost polls
+    urls = {**lab.urls, "torque_sensor": lab.urls["torque_sensor"] + "&timeout=0.25"}
+    devices = {name: OPENERS[name](urls[name]) for name in protocol.devices}
     if isinstance(protocol, AadsProtocol) and protocol.unload is None:
         # the simulated operator lifts the AFO off the plate for zeroing
         protocol.unload = lambda off: setattr(lab.force_plate, "specimen_on_plate", not off)
