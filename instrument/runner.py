@@ -139,7 +139,6 @@ class TrialRunner:
         self._worker: threading.Thread | None = None
         self._watcher: threading.Thread | None = None
         self._sweep_started = False
-        self._state_events: list[tuple[float, str]] = []
 
     # ------------------------------------------------------------------ control
     def start(self) -> None:
@@ -283,8 +282,7 @@ class TrialRunner:
             self._sweep_started = True
         elif kind == "sweep_end":
             self._sweep_started = False
-        with self._lock:
-            self._state_events.append((time.monotonic() - self._t0, kind))
+
 
     def _watch(self) -> None:
         """Relaxation, limits and the AADS loop, from the ring buffers, every 20 ms until the trial ends."""
@@ -292,6 +290,10 @@ class TrialRunner:
         last_aads = 0.0
         while self._worker is not None and self._worker.is_alive():
             time.sleep(0.02)
+            if self._events and self.engine.writer is not None:  # marks made before the file existed
+                pending, self._events = self._events, []
+                for kind, fields in pending:
+                    self.engine.writer.log_event(kind, **fields)
             if "dynamometer" in self.engine.rings:
                 data, marks["dynamometer"] = self.engine.rings["dynamometer"].since(marks["dynamometer"])
                 if len(data["time_s"]):
