@@ -96,9 +96,7 @@ def _estop_latency(repeats: int) -> list[float]:
         with source.devices(proto) as devices:
             runner = TrialRunner(store, session, proto, devices)
             runner.start()
-            deadline = time.monotonic() + 20
-            while not runner._sweep_started and time.monotonic() < deadline:
-                time.sleep(0.01)
+            runner.sweep_started.wait(20.0)
             time.sleep(0.3)
             sim = source.lab.dynamometer
             t0 = time.perf_counter()

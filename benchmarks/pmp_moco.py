@@ -17,6 +17,7 @@ import json
 import math
 import subprocess
 import sys
+import tempfile
 import textwrap
 import time
 from typing import Any
@@ -183,8 +184,9 @@ def solve_moco(data: dict[str, np.ndarray], timeout_s: float = 900.0) -> dict[st
            "wq": 1.0 / math.radians(0.5) ** 2, "wv": 1.0 / math.radians(2.0) ** 2, "wu": 1.0 / 0.5**2,
            "t": data["time_s"].tolist(), "q": data["angle_rad"].tolist(), "v": data["velocity_rad_s"].tolist(),
            "u": data["torque_nm"].tolist()}
-    out = subprocess.run([sys.executable, "-c", textwrap.dedent(MOCO_SCRIPT), json.dumps(cfg)], capture_output=True,
-                         text=True, timeout=timeout_s)
+    with tempfile.TemporaryDirectory() as work:  # OpenSim writes opensim.log where it runs
+        out = subprocess.run([sys.executable, "-c", textwrap.dedent(MOCO_SCRIPT), json.dumps(cfg)],
+                             capture_output=True, text=True, timeout=timeout_s, cwd=work)
     if out.returncode != 0:
         raise RuntimeError(out.stderr[-1500:])
     return json.loads(out.stdout.strip().splitlines()[-1])

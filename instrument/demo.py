@@ -295,9 +295,7 @@ def operator_drill(out: Path) -> tuple[dict[str, Any], bool]:
         with source.devices(proto) as devices:
             runner = TrialRunner(store, session, proto, devices, extra_metadata=source.metadata())
             runner.start()
-            deadline = time.monotonic() + 20
-            while not runner._sweep_started and time.monotonic() < deadline:
-                time.sleep(0.01)
+            runner.sweep_started.wait(20.0)
             if case == "burst":
                 source.inject_burst(3.0, delay_s=1.2)
             latency_ms = None

@@ -11,7 +11,7 @@ trial; whatever the trial recorded stays on disk.
 
 from __future__ import annotations
 
-import math
+import functools
 import threading
 import time
 from dataclasses import dataclass, field
@@ -138,7 +138,8 @@ class TrialRunner:
         self._t0 = 0.0
         self._worker: threading.Thread | None = None
         self._watcher: threading.Thread | None = None
-        self._sweep_started = False
+        #: set while the isokinetic sweep runs (the protocol's ``sweep_start`` … ``sweep_end``)
+        self.sweep_started = threading.Event()
 
     # ------------------------------------------------------------------ control
     def start(self) -> None:
@@ -279,9 +280,9 @@ class TrialRunner:
 
     def _protocol_event(self, kind: str, fields: dict[str, Any]) -> None:
         if kind == "sweep_start":
-            self._sweep_started = True
+            self.sweep_started.set()
         elif kind == "sweep_end":
-            self._sweep_started = False
+            self.sweep_started.clear()
 
 
     def _watch(self) -> None:
@@ -308,12 +309,6 @@ class TrialRunner:
         pos = np.rad2deg(d["position_rad"])
         vel = np.rad2deg(d["velocity_rad_s"])
         tq = d["torque_nm"]
-        with self._lock:
-            st = self._state
-            if st.emergency_stop_s is not None and st.estop_confirmed_s is None and "state" in d:
-                stopped = np.flatnonzero(d["state"] == d["state"].dtype.type(ESTOP_STATE))
-                if stopped.size:
-                    st.estop_confirmed_s = time.monotonic()
         breach = None
         if np.any(np.abs(tq) > self.limits.max_torque_nm):
             breach = f"torque {np.max(np.abs(tq)):.1f} N·m over {self.limits.max_torque_nm:g} N·m"
@@ -326,7 +321,7 @@ class TrialRunner:
                 self._state.limit_breaches.append(breach)
             self.emergency_stop(reason=breach)
             return
-        if self.monitor is not None and isinstance(self.protocol, IsokineticProtocol) and self._sweep_started:
+        if self.monitor is not None and isinstance(self.protocol, IsokineticProtocol) and self.sweep_started.is_set():
             # only the isokinetic part: moving at the set speed (the start and stop transients are
             # the dynamometer's, not the subject's)
             steady = np.abs(np.abs(vel) - self.protocol.speed_deg_s) < 0.2 * self.protocol.speed_deg_s
@@ -347,7 +342,6 @@ class TrialRunner:
 
     def _update_aads(self) -> None:
         """The loop so far: hinge angle from the markers, AFO torque by static optimisation (the analysis's own)."""
-        from analysis.aads.model import load_jig_model
         from analysis.aads.pipeline import analyze_trial
         from analysis.errors import AnalysisError
 
@@ -362,7 +356,7 @@ class TrialRunner:
         try:
             motion = motion_from_channels(mk, self.devices["mocap"].identity(), fp, self.devices["force_plate"].identity(),
                                           "live")
-            res = analyze_trial(motion, _jig_model(load_jig_model))
+            res = analyze_trial(motion, _default_jig_model())
         except (AnalysisError, ValueError, IndexError):
             return
         ok = res.sop.valid
@@ -376,14 +370,14 @@ class TrialRunner:
 
 
 ESTOP_STATE = int(State.ESTOP)
-_JIG_MODEL: Any = None
 
 
-def _jig_model(loader: Callable[[], Any]) -> Any:
-    global _JIG_MODEL
-    if _JIG_MODEL is None:
-        _JIG_MODEL = loader()
-    return _JIG_MODEL
+@functools.lru_cache(maxsize=1)
+def _default_jig_model() -> Any:
+    """The default jig model, read once (the live AADS loop re-analyses every 0.25 s)."""
+    from analysis.aads.model import load_jig_model
+
+    return load_jig_model()
 
 
 __all__ = ["TrialRunner", "SafetyLimits", "Checklist", "checklist_for", "LiveState"]

@@ -67,6 +67,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self._subject_code = subject_code
         self._last_verdict: str | None = None
         self.frames = FrameCounter()
+        self._monitor_axes = False  # monitor view's fixed time axes set up
         self.analysis_text = ""
         self.setWindowTitle("AFO & passive-muscle lab instrument" + (" — SIMULATION" if source.simulated else ""))
         self._build()
@@ -419,14 +420,7 @@ class MainWindow(QtWidgets.QMainWindow):
 
     # ------------------------------------------------------------------ refresh (timer)
     def _refresh(self) -> None:
-        t_start = time.perf_counter()
         self.frames.tick()
-        try:
-            self._refresh_inner()
-        finally:
-            self.refresh_ms = max(getattr(self, "refresh_ms", 0.0), (time.perf_counter() - t_start) * 1e3)
-
-    def _refresh_inner(self) -> None:
         runner = self.runner
         engine = runner.engine if runner is not None else self.monitor_engine
         if engine is not None:
@@ -501,7 +495,7 @@ class MainWindow(QtWidgets.QMainWindow):
 
         The time axes are fixed (−10…0 s, the newest sample at 0), so the axes are not redrawn
         every frame as the data scrolls: axis text is most of a frame's cost."""
-        if not getattr(self, "_monitor_axes", False):
+        if not self._monitor_axes:
             for p in (self.plot_a, self.plot_b):
                 p.setXRange(-10.0, 0.0, padding=0)
                 p.disableAutoRange(axis="x")

@@ -65,7 +65,7 @@ def test_knee_trial_flags_a_burst_is_repeated_then_accepted(qtbot, window: MainW
     window.speed_spin.setValue(10.0)
     window.confirm_checklist()
     qtbot.mouseClick(window.start_button, QtCore.Qt.MouseButton.LeftButton)
-    qtbot.waitUntil(lambda: window.runner is not None and window.runner._sweep_started, timeout=20000)
+    qtbot.waitUntil(lambda: window.runner is not None and window.runner.sweep_started.is_set(), timeout=20000)
     window.source.inject_burst(4.0, delay_s=1.5)  # at 15° of 30°: past the detector warm-up
     run_to_end(qtbot, window)
     snap = window.runner.snapshot()
@@ -98,7 +98,7 @@ def test_escape_is_an_emergency_stop_that_reaches_the_dynamometer(qtbot, window:
     window.protocol_box.setCurrentIndex(2)
     window.confirm_checklist()
     qtbot.mouseClick(window.start_button, QtCore.Qt.MouseButton.LeftButton)
-    qtbot.waitUntil(lambda: window.runner is not None and window.runner._sweep_started, timeout=20000)
+    qtbot.waitUntil(lambda: window.runner is not None and window.runner.sweep_started.is_set(), timeout=20000)
     lab = window.source.lab
     qtbot.keyClick(window, QtCore.Qt.Key.Key_Escape)
     qtbot.waitUntil(lambda: lab.dynamometer.state == State.ESTOP, timeout=2000)
@@ -142,7 +142,7 @@ def test_replica_trial_and_closing_mid_trial_keeps_the_data(qtbot, window: MainW
     window.protocol_box.setCurrentIndex(1)
     window.confirm_checklist()
     qtbot.mouseClick(window.start_button, QtCore.Qt.MouseButton.LeftButton)
-    qtbot.waitUntil(lambda: window.runner is not None and window.runner._sweep_started, timeout=20000)
+    qtbot.waitUntil(lambda: window.runner is not None and window.runner.sweep_started.is_set(), timeout=20000)
     runner = window.runner
     window.close()
     snap = runner.snapshot()

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import time
 from pathlib import Path
 
 import numpy as np
@@ -54,9 +53,7 @@ def test_burst_is_flagged_at_its_angle_and_rejection_keeps_the_data(store: Sessi
     with source.devices(proto) as devices:
         runner = TrialRunner(store, store.new_session("R1"), proto, devices, extra_metadata=source.metadata())
         runner.start()
-        deadline = time.monotonic() + 20
-        while not runner._sweep_started and time.monotonic() < deadline:
-            time.sleep(0.01)
+        assert runner.sweep_started.wait(20.0)
         source.inject_burst(amplitude, delay_s=delay)
         assert runner.wait(30.0)
     snap = runner.snapshot()
