@@ -19,7 +19,8 @@ from abc import ABC, abstractmethod
 from dataclasses import asdict, dataclass, field
 from typing import Any, Callable, ClassVar
 
-from drivers import Dynamometer, StreamingDevice
+from drivers import Dynamometer, DriverError, StreamingDevice
+from drivers.dynamometer import DEFAULT_LIMITS
 
 from .errors import ProtocolError
 
@@ -45,6 +46,10 @@ class TrialProtocol(ABC):
     @abstractmethod
     def drive(self, devices: dict[str, StreamingDevice], mark: Any, stop: threading.Event) -> None:
         """Run the trial while recording; ``mark(kind, **fields)`` writes an event into the trial."""
+
+    def shutdown(self, devices: dict[str, StreamingDevice], mark: Any) -> None:
+        """Leave the devices safe; runs after every trial, however it ended (operator stop, error,
+        e-stop, normal end), while the recording still runs. Must not raise. Default: nothing."""
 
     def expected_duration_s(self) -> float:
         return float("nan")
@@ -127,6 +132,8 @@ class IsokineticProtocol(TrialProtocol):
     arm_mass_kg: float = 1.8
     arm_com_m: float = 0.22
     settle_s: float = 0.5
+    #: the device's torque ceiling for this trial (N·m); set on the device before anything moves
+    max_torque_nm: float = DEFAULT_LIMITS.max_torque_nm
 
     def prepare(self, devices: dict[str, StreamingDevice]) -> None:
         dyno = devices["dynamometer"]
@@ -136,6 +143,7 @@ class IsokineticProtocol(TrialProtocol):
         dyno.open()
         dyno.reset()
         dyno.set_range_of_motion(math.radians(lo - 1.0), math.radians(hi + 1.0))
+        dyno.set_torque_limit(self.max_torque_nm)
         dyno.set_passive_isokinetic(math.radians(POSITIONING_SPEED_DEG_S))
 
     def drive(self, devices: dict[str, StreamingDevice], mark: Any, stop: threading.Event) -> None:
@@ -150,6 +158,23 @@ class IsokineticProtocol(TrialProtocol):
         dyno.move_to(math.radians(self.end_deg))
         stopped = _wait(stop, travel / self.speed_deg_s + 0.5 + self.settle_s)
         mark("sweep_end", completed=not stopped)
+
+    def shutdown(self, devices: dict[str, StreamingDevice], mark: Any) -> None:
+        """Halt the arm (a controlled stop; harmless when it already holds or is latched). If the
+        device does not acknowledge the halt, the emergency-stop frame goes out instead."""
+        dyno = devices.get("dynamometer")
+        if not isinstance(dyno, Dynamometer):
+            return
+        try:
+            dyno.halt()
+            mark("halted")
+        except DriverError as err:
+            mark("halt_failed", error=str(err))
+            try:
+                dyno.emergency_stop()
+                mark("emergency_stop", reason=f"halt not acknowledged: {err}")
+            except DriverError as err2:
+                mark("emergency_stop_failed", error=str(err2))
 
     def expected_duration_s(self) -> float:
         travel = abs(self.end_deg - self.start_deg)

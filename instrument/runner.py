@@ -103,6 +103,7 @@ class LiveState:
     limit_breaches: list[str] = field(default_factory=list)
     emergency_stop_s: float | None = None   # time the e-stop command left the host
     estop_confirmed_s: float | None = None  # time the dynamometer's telemetry first showed the stop
+    estop_unconfirmed: str | None = None    # why the e-stop is unconfirmed: the operator gets a blocking alarm
     aads_angle_deg: np.ndarray = field(default_factory=lambda: np.zeros(0))
     aads_torque_nm: np.ndarray = field(default_factory=lambda: np.zeros(0))
     aads_peak_deg: float = float("nan")
@@ -126,6 +127,8 @@ class TrialRunner:
         if problems:
             raise ProtocolError("; ".join(problems))
         self.operator, self.trial_number, self.extra_metadata = operator, trial_number, extra_metadata
+        if hasattr(protocol, "max_torque_nm"):  # the device's own ceiling: the stricter of the two
+            protocol.max_torque_nm = min(protocol.max_torque_nm, self.limits.max_torque_nm)
         self.engine = AcquisitionEngine(self.devices, ring_seconds=120.0,
                                         nominal_rates_hz={n: NOMINAL_RATES_HZ.get(n, 1000.0) for n in self.devices})
         self.monitor = monitor if monitor is not None else (
@@ -157,24 +160,34 @@ class TrialRunner:
         self.stop_event.set()
 
     def emergency_stop(self, reason: str = "operator") -> None:
-        """Stop the dynamometer now (on a command thread), mark the trial, end it; never blocks."""
+        """Stop the dynamometer now, mark the trial, end it; never blocks on the device.
+
+        The e-stop frame is handed to the bus on the calling thread (one CAN frame, no
+        acknowledgement). A confirming thread then waits for the device to show the stop: not
+        confirmed within :data:`ESTOP_CONFIRM_PERIODS` telemetry periods, the frame is re-sent (up
+        to :data:`ESTOP_RESENDS` times); still unconfirmed, the arm is halted by command, the host
+        heartbeat is withdrawn (the device's watchdog stops any motion), the trial is marked and
+        :attr:`LiveState.estop_unconfirmed` says why, for a blocking alarm.
+        """
         dyno = self.devices.get("dynamometer")
-        with self._lock:
-            if self._state.emergency_stop_s is None:
-                self._state.emergency_stop_s = time.monotonic()
+        now = time.monotonic()
         if isinstance(dyno, Dynamometer):
-            # one CAN frame on the highest-priority id, no acknowledgement awaited: handing it to the
-            # bus here does not wait on the device, and a thread start would add milliseconds
-            sent = None
+            sent_s, send_error = now, None
             try:
-                dyno.emergency_stop()
-            except Exception as err:  # noqa: BLE001 - retried by the confirming thread
-                sent = err
-            self._mark("emergency_stop", reason=reason)
-            # the confirming thread ends the trial once the telemetry shows the stop (so the
-            # recording holds it), or after 1 s without that confirmation
-            threading.Thread(target=self._confirm_estop, args=(dyno, sent), daemon=True, name="estop").start()
+                sent_s = dyno.emergency_stop()
+            except Exception as err:  # noqa: BLE001 - re-sent by the confirming thread
+                send_error = err
+            with self._lock:
+                first = self._state.emergency_stop_s is None
+                if first:
+                    self._state.emergency_stop_s = sent_s
+            self._mark("emergency_stop", reason=reason, **({"send_error": str(send_error)} if send_error else {}))
+            if first:
+                threading.Thread(target=self._confirm_estop, args=(dyno, sent_s), daemon=True, name="estop").start()
         else:
+            with self._lock:
+                if self._state.emergency_stop_s is None:
+                    self._state.emergency_stop_s = now
             self._mark("emergency_stop", reason=reason)
             self.stop_event.set()
 
@@ -192,7 +205,7 @@ class TrialRunner:
             s = self._state
             return LiveState(s.phase, time.monotonic() - self._t0 if s.phase == "running" else s.elapsed_s,
                              list(s.alarms), list(s.limit_breaches), s.emergency_stop_s, s.estop_confirmed_s,
-                             s.aads_angle_deg, s.aads_torque_nm, s.aads_peak_deg, s.aads_covers_window,
+                             s.estop_unconfirmed, s.aads_angle_deg, s.aads_torque_nm, s.aads_peak_deg, s.aads_covers_window,
                              s.aads_past_stop, s.outcome, s.error)
 
     # ------------------------------------------------------------------ verdict
@@ -208,6 +221,8 @@ class TrialRunner:
     def suggested_rejection(self) -> str | None:
         """Why the trial should be repeated, if the live checks found a reason."""
         s = self.snapshot()
+        if s.estop_unconfirmed is not None:
+            return "emergency stop unconfirmed: " + s.estop_unconfirmed
         if s.emergency_stop_s is not None:
             return "emergency stop"
         if s.alarms:
@@ -234,23 +249,43 @@ class TrialRunner:
         else:
             self._events.append((kind, fields))
 
-    def _confirm_estop(self, dyno: Dynamometer, send_error: Exception | None) -> None:
+    def _confirm_estop(self, dyno: Dynamometer, sent_s: float) -> None:
+        """Confirm the e-stop from the device's own report; re-send, then alarm (see :meth:`emergency_stop`)."""
         try:
-            if send_error is not None:
-                dyno.emergency_stop()  # the first send failed: once more, or report why
-            deadline = time.monotonic() + 1.0
-            while time.monotonic() < deadline:
-                status = getattr(dyno, "status", None)
-                if status is not None and int(status.state) == ESTOP_STATE:
-                    with self._lock:
-                        if self._state.estop_confirmed_s is None:
-                            self._state.estop_confirmed_s = time.monotonic()
-                    self._mark("emergency_stop_confirmed")
-                    break
-                time.sleep(0.001)
+            window_s = ESTOP_CONFIRM_PERIODS * dyno.telemetry_period_s
+            frames, deadline = 1, sent_s + window_s
+            while not dyno.stop_latched_since(sent_s):
+                if time.monotonic() >= deadline:
+                    if frames > ESTOP_RESENDS:
+                        break
+                    frames += 1
+                    try:
+                        dyno.emergency_stop()
+                    except Exception as err:  # noqa: BLE001 - counted as a frame that did not arrive
+                        self._mark("emergency_stop_send_failed", error=str(err))
+                    self._mark("emergency_stop_resent", frame=frames)
+                    deadline = time.monotonic() + window_s
+                time.sleep(0.0005)
+            if dyno.stop_latched_since(sent_s):
+                with self._lock:
+                    self._state.estop_confirmed_s = time.monotonic()
+                self._mark("emergency_stop_confirmed", frames=frames)
+                return
+            why = (f"the dynamometer did not confirm the emergency stop ({frames} frames over "
+                   f"{1000 * (time.monotonic() - sent_s):.0f} ms)")
+            with self._lock:
+                self._state.estop_unconfirmed = why
+            self._mark("emergency_stop_unconfirmed", frames=frames)
+            try:
+                dyno.halt()
+                self._mark("halted", by="command after an unconfirmed emergency stop")
+            except Exception as err:  # noqa: BLE001 - the watchdog below is the last resort
+                self._mark("halt_failed", error=str(err))
+            dyno.suspend_heartbeat(True)  # the device's watchdog stops any motion it still makes
+            self._mark("heartbeat_withdrawn")
         except Exception as err:  # noqa: BLE001 - the operator must see it; the trial still ends
             with self._lock:
-                self._state.limit_breaches.append(f"emergency stop not delivered: {err}")
+                self._state.estop_unconfirmed = f"emergency stop confirmation failed: {err}"
         finally:
             time.sleep(0.2)  # a few telemetry frames of the stopped arm into the recording
             self.stop_event.set()
@@ -258,12 +293,14 @@ class TrialRunner:
     def _run(self) -> None:
         try:
             self.engine.open()
-            dyno = self.devices.get("dynamometer")
-            if isinstance(dyno, Dynamometer):
-                dyno.set_torque_limit(self.limits.max_torque_nm)
             outcome = record_trial(self.store, self.session_id, self.protocol, self.devices, operator=self.operator,
                                    trial_number=self.trial_number, extra_metadata=self.extra_metadata,
                                    stop=self.stop_event, engine=self.engine, on_event=self._protocol_event)
+            with self._lock:
+                unconfirmed = self._state.estop_unconfirmed
+            if unconfirmed is not None:  # the trial carries the alarm, not only the window
+                self.store.set_status(outcome.trial_id, "interrupted", reason=unconfirmed)
+                outcome.status, outcome.reason = "interrupted", unconfirmed
             with self._lock:
                 self._state.outcome = outcome
                 self._state.phase = "done"
@@ -369,7 +406,10 @@ class TrialRunner:
             st.aads_past_stop = bool(peak > 21.0)
 
 
-ESTOP_STATE = int(State.ESTOP)
+#: telemetry periods the device has to show an e-stop before the frame is sent again
+ESTOP_CONFIRM_PERIODS = 2
+#: re-sends of an unconfirmed e-stop frame before the operator is alarmed
+ESTOP_RESENDS = 2
 
 
 @functools.lru_cache(maxsize=1)

@@ -70,7 +70,11 @@ def record_trial(store: SessionStore, session_id: int, protocol: TrialProtocol,
     engine = engine or AcquisitionEngine({n: devices[n] for n in protocol.devices},
                                          nominal_rates_hz={"force_plate": 1000.0, "torque_sensor": 500.0})
     engine.open()
-    protocol.prepare(engine.devices)
+    try:
+        protocol.prepare(engine.devices)
+    except BaseException:
+        protocol.shutdown(engine.devices, lambda kind, **fields: log.warning("%s %s", kind, fields))
+        raise
     trial_id, path = store.begin_trial(session_id, protocol.name, protocol.condition(),
                                        operator=operator, trial_number=trial_number)
     metadata = settings_snapshot(protocol, {"trial_id": trial_id, "operator": operator, "trial_number": trial_number,
@@ -90,7 +94,10 @@ def record_trial(store: SessionStore, session_id: int, protocol: TrialProtocol,
 
         protocol.drive(engine.devices, mark, stop)
     finally:
-        reports = engine.stop()
+        try:
+            protocol.shutdown(engine.devices, mark)  # the arm is halted on every path, recorded
+        finally:
+            reports = engine.stop()
     counts = {n: r.counts() for n, r in reports.items()}
     if engine.recording_error is not None or writer.error is not None:
         err = writer.error or engine.recording_error

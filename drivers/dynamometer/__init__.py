@@ -6,7 +6,9 @@ Open by URL; the scheme is the python-can interface, the host the channel::
     open_dynamometer("socketcan://can0?node=16&rate=100")
 
 Every motion command is checked against :class:`DynamometerLimits` before it is sent; a command
-outside them raises :class:`~drivers.errors.LimitViolationError` and nothing reaches the bus.
+outside them, or a value the wire cannot carry (NaN, inf, below its resolution, above its range),
+raises :class:`~drivers.errors.LimitViolationError` and nothing reaches the bus. The limits
+themselves are validated the same way when they are made.
 """
 
 from __future__ import annotations
@@ -20,12 +22,39 @@ from ..base import StreamingDevice
 from ..blocks import DynamometerBlock
 from ..errors import LimitViolationError
 from ..url import DeviceUrl, load_backend
+from . import protocol as p
 
 _CAN = ("drivers.dynamometer.can_driver", "CanDynamometer")
 #: scheme (python-can interface) -> (module, class); imported only when asked for
 BACKENDS: dict[str, tuple[str, str]] = {
     name: _CAN for name in ("virtual", "socketcan", "pcan", "kvaser", "vector", "slcan", "udp_multicast", "ixxat")
 }
+
+
+def _wire(value: float, lsb: float, low: int, high: int, what: str, unit: str) -> int:
+    """``value / lsb`` rounded, refused (typed) when it is not finite or leaves ``low..high``."""
+    if not math.isfinite(value):
+        raise LimitViolationError(f"{what} must be finite, got {value}")
+    raw = round(value / lsb)
+    if not low <= raw <= high:
+        raise LimitViolationError(f"{what} {value:g} {unit} is not representable on the wire "
+                                  f"({low * lsb:g}..{high * lsb:g} {unit} in steps of {lsb:g})")
+    return raw
+
+
+def position_wire(position_rad: float) -> int:
+    """A position in wire units (0.01°, i16)."""
+    return _wire(math.degrees(position_rad), p.POSITION_LSB_DEG, -32768, 32767, "position", "°")
+
+
+def speed_wire(speed_rad_s: float) -> int:
+    """A speed in wire units (0.01 °/s, u16); zero is not a speed."""
+    return _wire(math.degrees(speed_rad_s), p.SPEED_LSB_DEG_S, 1, 65535, "speed", "°/s")
+
+
+def torque_limit_wire(torque_nm: float) -> int:
+    """A torque limit in wire units (0.1 N·m, u16); zero is not a limit."""
+    return _wire(torque_nm, p.TORQUE_LIMIT_LSB_NM, 1, 65535, "torque limit", "N·m")
 
 
 @dataclass(frozen=True)
@@ -50,13 +79,23 @@ class DynamometerLimits:
         return cls(math.radians(rom_min_deg), math.radians(rom_max_deg), math.radians(max_speed_deg_s), max_torque_nm)
 
     def __post_init__(self) -> None:
+        values = {"rom_min_rad": self.rom_min_rad, "rom_max_rad": self.rom_max_rad,
+                  "max_speed_rad_s": self.max_speed_rad_s, "max_torque_nm": self.max_torque_nm}
+        for what, value in values.items():
+            if not math.isfinite(value):
+                raise LimitViolationError(f"limit {what} must be finite, got {value}")
         if not self.rom_min_rad < self.rom_max_rad:
-            raise ValueError("rom_min_rad must be below rom_max_rad")
+            raise LimitViolationError("rom_min_rad must be below rom_max_rad")
         if self.max_speed_rad_s <= 0 or self.max_torque_nm <= 0:
-            raise ValueError("speed and torque limits must be positive")
+            raise LimitViolationError("speed and torque limits must be positive")
+        # every limit must be something the wire can carry, or a command inside it could not be sent
+        for rad in (self.rom_min_rad, self.rom_max_rad):
+            position_wire(rad)
+        speed_wire(self.max_speed_rad_s)
+        torque_limit_wire(self.max_torque_nm)
 
     def check_position(self, position_rad: float) -> None:
-        if not self.rom_min_rad <= position_rad <= self.rom_max_rad:
+        if not self.rom_min_rad <= position_rad <= self.rom_max_rad:  # NaN fails this too
             raise LimitViolationError(
                 f"target {math.degrees(position_rad):.2f}° outside the allowed range "
                 f"{math.degrees(self.rom_min_rad):.1f}..{math.degrees(self.rom_max_rad):.1f}°")
@@ -105,8 +144,24 @@ class Dynamometer(StreamingDevice):
         """Controlled stop: decelerate and hold."""
 
     @abstractmethod
-    def emergency_stop(self) -> None:
-        """Emergency stop: highest-priority frame, latched by the device until :meth:`reset`."""
+    def emergency_stop(self) -> float:
+        """Emergency stop: highest-priority frame, latched by the device until :meth:`reset`.
+
+        Returns the host time (s, :func:`~drivers.clock.monotonic_s`) the command left.
+        """
+
+    @abstractmethod
+    def stop_latched_since(self, since_s: float) -> bool:
+        """True once the device has reported, after host time ``since_s``, that the arm is latched stopped."""
+
+    @property
+    @abstractmethod
+    def telemetry_period_s(self) -> float:
+        """Seconds between telemetry samples."""
+
+    @abstractmethod
+    def suspend_heartbeat(self, suspended: bool = True) -> None:
+        """Stop (or resume) the host heartbeat: the device's watchdog then stops any motion."""
 
     @abstractmethod
     def reset(self) -> None:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 import threading
 from typing import Any
 
@@ -11,9 +10,16 @@ import numpy as np
 
 from ..blocks import DynamometerBlock
 from ..clock import CounterClock, CounterUnwrapper, monotonic_s
-from ..errors import CommandRefusedError, DeviceInitializationError, DeviceTimeoutError, DriverError, error_check
+from ..errors import (
+    CommandRefusedError,
+    DeviceInitializationError,
+    DeviceTimeoutError,
+    DriverError,
+    LimitViolationError,
+    error_check,
+)
 from ..url import DeviceUrl
-from . import DEFAULT_LIMITS, Dynamometer, DynamometerLimits
+from . import DEFAULT_LIMITS, Dynamometer, DynamometerLimits, position_wire, speed_wire, torque_limit_wire
 from . import protocol as p
 
 
@@ -40,6 +46,8 @@ class CanDynamometer(Dynamometer):
         self.bitrate = bitrate
         self.command_timeout_s = command_timeout_s
         self.status: p.Status | None = None
+        #: host time (s) the last status frame arrived
+        self.status_time_s = float("-inf")
         self._bus: can.BusABC | None = None
         self._send_lock = threading.Lock()
         self._acks: dict[int, p.Result] = {}
@@ -173,6 +181,7 @@ class CanDynamometer(Dynamometer):
             elif aid == self.ids["status"]:
                 try:
                     self.status = p.Status.decode(data)
+                    self.status_time_s = monotonic_s()
                 except ValueError:
                     self.stats.malformed_frames += 1
             elif aid in (self.ids["command"], self.ids["heartbeat"], self.ids["estop"]):
@@ -198,31 +207,49 @@ class CanDynamometer(Dynamometer):
     # -- commands (checked against the limits before anything is sent)
     def set_passive_isokinetic(self, speed_rad_s: float) -> None:
         self.limits.check_speed(speed_rad_s)
+        raw = speed_wire(speed_rad_s)
         self._command(p.Command.SET_MODE, p.Mode.PASSIVE_ISOKINETIC)
-        self._command(p.Command.SET_SPEED, round(math.degrees(speed_rad_s) / 0.01))
+        self._command(p.Command.SET_SPEED, raw)
 
     def set_range_of_motion(self, min_rad: float, max_rad: float) -> None:
         self.limits.check_position(min_rad)
         self.limits.check_position(max_rad)
         if not min_rad < max_rad:
-            raise ValueError("min_rad must be below max_rad")
-        self._command(p.Command.SET_ROM, round(math.degrees(min_rad) / p.POSITION_LSB_DEG),
-                      round(math.degrees(max_rad) / p.POSITION_LSB_DEG))
+            raise LimitViolationError("min_rad must be below max_rad")
+        self._command(p.Command.SET_ROM, position_wire(min_rad), position_wire(max_rad))
 
     def set_torque_limit(self, torque_nm: float) -> None:
         self.limits.check_torque(torque_nm)
-        self._command(p.Command.SET_TORQUE_LIMIT, round(torque_nm / p.TORQUE_LIMIT_LSB_NM))
+        self._command(p.Command.SET_TORQUE_LIMIT, torque_limit_wire(torque_nm))
 
     def move_to(self, target_rad: float) -> None:
         self.limits.check_position(target_rad)
-        self._command(p.Command.START, round(math.degrees(target_rad) / p.POSITION_LSB_DEG))
+        self._command(p.Command.START, position_wire(target_rad))
 
     def halt(self) -> None:
         self._command(p.Command.STOP)
 
-    def emergency_stop(self) -> None:
-        """Sent at once on the highest-priority id; no acknowledgement is awaited."""
+    def emergency_stop(self) -> float:
+        """Sent at once on the highest-priority id; no acknowledgement is awaited.
+
+        Returns the host time (s) the frame was handed to the bus; :meth:`stop_latched_since`
+        tells when the device has shown the stop.
+        """
+        sent = monotonic_s()
         self._send(self.ids["estop"], p.encode_estop())
+        return sent
+
+    def stop_latched_since(self, since_s: float) -> bool:
+        """True once a status frame that arrived after host time ``since_s`` shows the arm latched
+        stopped (emergency stop, or a fault the device latched itself)."""
+        status = self.status
+        return (status is not None and self.status_time_s >= since_s
+                and status.state in (p.State.ESTOP, p.State.FAULT))
+
+    @property
+    def telemetry_period_s(self) -> float:
+        """Seconds between telemetry frames at the requested rate."""
+        return 1.0 / self.telemetry_rate_hz
 
     def reset(self) -> None:
         self._command(p.Command.RESET)

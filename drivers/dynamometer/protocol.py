@@ -7,7 +7,8 @@ Identifiers are a function code plus the node id N (default 0x10), lower id = hi
     0x180 + N   device→host  8    TELEMETRY: counter u16, torque i16 [0.01 N·m],
                                   position i16 [0.01°], velocity i16 [0.02 °/s]
     0x200 + N   host→device  8    COMMAND: code u8, sequence u8, arguments (6 bytes, see Command)
-    0x280 + N   device→host  8    STATUS (10 Hz): state u8, mode u8, faults u8 (bit flags),
+    0x280 + N   device→host  8    STATUS (10 Hz, and at once on every state change): state u8,
+                                  mode u8, faults u8 (bit flags),
                                   telemetry rate u16 [Hz], torque limit u16 [0.1 N·m], spare u8
     0x300 + N   device→host  3    ACK: code u8, sequence u8, result u8 (Result)
     0x700 + N   host→device  1    HOST HEARTBEAT: counter u8, every 100 ms; the device's watchdog
@@ -36,6 +37,7 @@ TORQUE_LSB_NM = 0.01
 POSITION_LSB_DEG = 0.01
 VELOCITY_LSB_DEG_S = 0.02
 TORQUE_LIMIT_LSB_NM = 0.1
+SPEED_LSB_DEG_S = 0.01
 CAN_BITS_PER_8_BYTE_FRAME = 135  # 11-bit id, 8 data bytes, worst-case bit stuffing + IFS
 
 TELEMETRY = struct.Struct("<Hhhh")
@@ -67,6 +69,7 @@ class Fault(enum.IntFlag):
     WATCHDOG = 2
     TORQUE_LIMIT = 4
     ROM_LIMIT = 8
+    SPEED_LIMIT = 16
 
 
 class Command(enum.IntEnum):

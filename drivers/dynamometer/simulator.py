@@ -3,8 +3,16 @@
 It runs the device side of :mod:`drivers.dynamometer.protocol` on its own ``can.Bus`` (the
 ``virtual`` interface in tests), ticking at the telemetry rate on an absolute schedule:
 commands are acknowledged, moves follow a trapezoidal velocity profile at the set speed, the
-watchdog stops motion when host heartbeats stop, and the emergency stop latches. Telemetry
-torque comes from :class:`~drivers.simulation.seated_leg.SeatedLeg` plus sensor noise.
+watchdog stops motion when host heartbeats stop, and the emergency stop latches. Like the
+hardware it stands for, the device enforces its own envelope while moving, whatever the host
+sends: the arm stops at the range-of-motion stop (fault ``ROM_LIMIT``, also when the ROM is
+narrowed mid-move), a shaft torque over the set limit latches ``TORQUE_LIMIT`` (whenever the
+arm is held), a speed above the set speed latches ``SPEED_LIMIT``; a status frame goes out at once
+on every state change. Telemetry torque comes from
+:class:`~drivers.simulation.seated_leg.SeatedLeg` plus sensor noise.
+
+``lose_estop_frames`` makes the next N emergency-stop frames vanish on the bus (a frame the
+host sent that never arrives), for testing the host's confirmation and re-send.
 
 CAN faults map to what a CAN controller shows software: ``corrupt_rate`` → error frames (the
 hardware discards frames with a bad CRC), ``truncate_rate`` → a telemetry frame with a short
@@ -37,7 +45,8 @@ class DynamometerSimulator:
                  node: int = p.NODE_ID_DEFAULT, telemetry_rate_hz: int = 100, start_position_deg: float = 0.0,
                  device_rom_deg: tuple[float, float] = (-60.0, 130.0), max_speed_deg_s: float = 300.0,
                  acceleration_deg_s2: float = 60.0, noise_nm: float = 0.05, faults: FaultConfig | None = None,
-                 seed: int = 0, autostart: bool = True) -> None:
+                 seed: int = 0, autostart: bool = True, max_torque_limit_nm: float = 500.0,
+                 lose_estop_frames: int = 0) -> None:
         self.leg = leg or SeatedLeg()
         self.ids = p.ids(node)
         self.bus = can.Bus(interface=interface, channel=channel, receive_own_messages=False)
@@ -57,7 +66,11 @@ class DynamometerSimulator:
         self.acceleration = 0.0
         self.speed_deg_s = 5.0
         self.rom_deg = device_rom_deg
+        self.max_torque_limit_nm = max_torque_limit_nm
         self.torque_limit_nm = 200.0
+        self.lose_estop_frames = lose_estop_frames
+        self.estop_frames_lost = 0
+        self._status_sent_state: p.State | None = None
         self.target_deg: float | None = None
         self.counter = 0
         self.sent = 0
@@ -109,6 +122,10 @@ class DynamometerSimulator:
             return
         data = bytes(msg.data)
         if msg.arbitration_id == self.ids["estop"] and p.is_estop(data):
+            if self.lose_estop_frames > 0:
+                self.lose_estop_frames -= 1
+                self.estop_frames_lost += 1
+                return
             self._latch(p.State.ESTOP, p.Fault.ESTOP, "emergency stop")
             return
         if msg.arbitration_id == self.ids["heartbeat"]:
@@ -140,7 +157,7 @@ class DynamometerSimulator:
             self.mode = p.Mode(args[0]) if args[0] in p.Mode._value2member_map_ else self.mode
             return p.Result.OK if args[0] in p.Mode._value2member_map_ else p.Result.OUT_OF_RANGE
         if command == p.Command.SET_SPEED:
-            speed = args[0] * 0.01
+            speed = args[0] * p.SPEED_LSB_DEG_S
             if not 0 < speed <= self.max_speed_deg_s:
                 return p.Result.OUT_OF_RANGE
             self.speed_deg_s = speed
@@ -152,7 +169,10 @@ class DynamometerSimulator:
             self.rom_deg = (lo, hi)
             return p.Result.OK
         if command == p.Command.SET_TORQUE_LIMIT:
-            self.torque_limit_nm = args[0] * p.TORQUE_LIMIT_LSB_NM
+            limit = args[0] * p.TORQUE_LIMIT_LSB_NM
+            if not 0 < limit <= self.max_torque_limit_nm:
+                return p.Result.OUT_OF_RANGE
+            self.torque_limit_nm = limit
             return p.Result.OK
         if command == p.Command.SET_TELEMETRY_RATE:
             if not 10 <= args[0] <= 1000:
@@ -185,7 +205,16 @@ class DynamometerSimulator:
                 dv = np.clip(v_want - v_old, -self.acceleration_deg_s2 * dt, self.acceleration_deg_s2 * dt)
                 self.velocity_deg_s = v_old + dv
                 step = self.velocity_deg_s * dt
-                if abs(step) >= abs(err) or abs(err) < 1e-3:
+                lo, hi = self.rom_deg
+                if abs(self.velocity_deg_s) > self.speed_deg_s * 1.05 + 0.1:
+                    self._latch(p.State.FAULT, p.Fault.SPEED_LIMIT,
+                                f"speed {self.velocity_deg_s:.1f}°/s over {self.speed_deg_s:g}°/s")
+                elif not lo <= self.position_deg + step <= hi:
+                    # the ROM stop (the ROM may have been narrowed mid-move): the arm halts at it
+                    self.position_deg = min(max(self.position_deg, lo), hi)
+                    self._latch(p.State.FAULT, p.Fault.ROM_LIMIT,
+                                f"range-of-motion stop at {self.position_deg:.2f}° ({lo:g}..{hi:g}°)")
+                elif abs(step) >= abs(err) or abs(err) < 1e-3:
                     self.position_deg, self.velocity_deg_s = self.target_deg, 0.0
                     self.state, self.target_deg = p.State.HOLDING, None
                 else:
@@ -203,7 +232,7 @@ class DynamometerSimulator:
         c = self.faults
         self.counter += 1
         tau = self.torque_nm(now)
-        if self.state == p.State.MOVING and abs(tau) > self.torque_limit_nm:
+        if self.state not in (p.State.ESTOP, p.State.FAULT) and abs(tau) > self.torque_limit_nm:
             self._latch(p.State.FAULT, p.Fault.TORQUE_LIMIT, f"torque {tau:.1f} N·m over limit")
         if c.silent_at(t_stream) or self._vanished(t_stream):
             return
@@ -241,9 +270,10 @@ class DynamometerSimulator:
                 last = next_tick
                 self._telemetry(next_tick - self._t0, next_tick - self._t0)
                 next_tick += 1.0 / self.rate_hz
-            if now >= next_status:
+            if now >= next_status or self.state != self._status_sent_state:
                 next_status = now + 0.1
                 if not (self.faults.silent_at(now - self._t0) or self._vanished(now - self._t0)):
+                    self._status_sent_state = self.state
                     self._send(self.ids["status"], p.Status(self.state, self.mode, self.fault, self.rate_hz,
                                                             self.torque_limit_nm).encode())
             msg = self.bus.recv(timeout=max(0.0, min(next_tick, next_status) - time.monotonic()))

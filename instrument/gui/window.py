@@ -66,6 +66,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self._session_id: int | None = None
         self._subject_code = subject_code
         self._last_verdict: str | None = None
+        self.estop_alarm: QtWidgets.QMessageBox | None = None
         self.frames = FrameCounter()
         self._monitor_axes = False  # monitor view's fixed time axes set up
         self.analysis_text = ""
@@ -303,7 +304,10 @@ class MainWindow(QtWidgets.QMainWindow):
         ready = self.checklist.complete and (self._anthropometrics_ok() or not needs_subject)
         self.start_button.setEnabled(ready and not running and not finished)
         self.stop_button.setEnabled(running)
-        self.accept_button.setEnabled(finished and self.runner is not None and self.runner.snapshot().outcome is not None)
+        snap = self.runner.snapshot() if self.runner is not None else None
+        # a trial that ended by an emergency stop is not accepted: it is repeated
+        self.accept_button.setEnabled(finished and snap is not None and snap.outcome is not None
+                                      and snap.emergency_stop_s is None)
         self.repeat_button.setEnabled(finished)
         self.protocol_box.setEnabled(not running)
 
@@ -336,6 +340,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self.runner = None
         self._setup_error = None
         self._last_verdict = None
+        self.estop_alarm = None
         self._set_plot_mode(protocol.name)
         # the previous trial's devices may still be closing: the new trial thread waits for that
         self._trial_thread = threading.Thread(target=self._run_trial, args=(protocol, session, self._trial_thread),
@@ -432,6 +437,8 @@ class MainWindow(QtWidgets.QMainWindow):
             self._update_buttons()
         if runner is not None:
             snap = runner.snapshot()
+            if snap.estop_unconfirmed is not None and self.estop_alarm is None:
+                self._raise_estop_alarm(snap.estop_unconfirmed)
             if snap.phase in ("done", "failed") and self._last_verdict is None and not self.verdict.text().startswith(
                     ("Trial finished", "Trial failed")):
                 why = runner.suggested_rejection()
@@ -458,6 +465,20 @@ class MainWindow(QtWidgets.QMainWindow):
                                          + ("covered." if snap.aads_covers_window else "not covered yet: push further."))
             elif snap.phase == "running" and not self.verdict.text().startswith(("Recording", "EMERGENCY")):
                 self.verdict.setText(f"Recording {runner.protocol.name} …")
+
+    def _raise_estop_alarm(self, why: str) -> None:
+        """A modal alarm the operator must acknowledge: the device did not confirm the e-stop."""
+        box = QtWidgets.QMessageBox(self)
+        box.setIcon(QtWidgets.QMessageBox.Icon.Critical)
+        box.setWindowTitle("EMERGENCY STOP NOT CONFIRMED")
+        box.setText(f"{why}.\nThe arm was halted by command and the host heartbeat withdrawn, so the device's "
+                    "watchdog stops it. Check the subject and the dynamometer now; use the device's own "
+                    "hardware stop if the arm still moves. The trial is marked.")
+        box.setStandardButtons(QtWidgets.QMessageBox.StandardButton.Ok)
+        box.setModal(True)
+        self.estop_alarm = box
+        self.verdict.setText("EMERGENCY STOP NOT CONFIRMED by the dynamometer: " + why)
+        box.open()
 
     def _plot(self, engine: AcquisitionEngine, runner: TrialRunner | None) -> None:
         rings = engine.rings

@@ -108,3 +108,88 @@ def test_emergency_stop_within_one_telemetry_period(rig) -> None:
     assert np.all(np.concatenate([b.velocity_rad_s for b in blocks])[-3:] == 0.0)
     with pytest.raises(DriverError):
         dyno.move_to(math.radians(10.0))
+
+
+@pytest.mark.parametrize("kwargs", [
+    dict(rom_min_deg=float("nan"), rom_max_deg=90.0, max_speed_deg_s=10.0, max_torque_nm=100.0),
+    dict(rom_min_deg=0.0, rom_max_deg=float("inf"), max_speed_deg_s=10.0, max_torque_nm=100.0),
+    dict(rom_min_deg=0.0, rom_max_deg=90.0, max_speed_deg_s=float("nan"), max_torque_nm=100.0),
+    dict(rom_min_deg=0.0, rom_max_deg=90.0, max_speed_deg_s=10.0, max_torque_nm=float("inf")),
+    dict(rom_min_deg=0.0, rom_max_deg=90.0, max_speed_deg_s=1e-9, max_torque_nm=100.0),  # below 0.01°/s
+    dict(rom_min_deg=0.0, rom_max_deg=90.0, max_speed_deg_s=10.0, max_torque_nm=0.01),  # below 0.1 N·m
+    dict(rom_min_deg=0.0, rom_max_deg=90.0, max_speed_deg_s=10.0, max_torque_nm=7000.0),  # above 6553.5 N·m
+    dict(rom_min_deg=0.0, rom_max_deg=400.0, max_speed_deg_s=10.0, max_torque_nm=100.0),  # above ±327.67°
+])
+def test_limits_that_are_not_finite_or_not_representable_are_refused(kwargs) -> None:
+    with pytest.raises(LimitViolationError):
+        DynamometerLimits.from_degrees(**kwargs)
+
+
+@pytest.mark.parametrize("action", [
+    lambda d: d.set_passive_isokinetic(float("nan")),
+    lambda d: d.set_passive_isokinetic(1e-9),  # rounds to 0 on the wire: refused, not sent as "0"
+    lambda d: d.set_torque_limit(0.01),
+    lambda d: d.set_torque_limit(float("inf")),
+    lambda d: d.move_to(float("nan")),
+])
+def test_values_the_wire_cannot_carry_never_reach_the_bus(rig, action) -> None:
+    dyno, _, spy = rig
+    _commands_seen(spy, dyno.ids["command"])
+    with pytest.raises(LimitViolationError):
+        action(dyno)
+    assert _commands_seen(spy, dyno.ids["command"]) == []
+
+
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+_any_float = st.floats(allow_nan=True, allow_infinity=True)
+
+
+@settings(max_examples=300, deadline=None)
+@given(_any_float, _any_float, _any_float, _any_float)
+def test_limits_either_refuse_with_a_typed_error_or_encode(lo, hi, speed, torque) -> None:
+    from drivers.dynamometer import position_wire, speed_wire, torque_limit_wire
+
+    try:
+        limits = DynamometerLimits(lo, hi, speed, torque)
+    except LimitViolationError:
+        return
+    # anything the limits admit can be put on the wire
+    assert -32768 <= position_wire(limits.rom_min_rad) < position_wire(limits.rom_max_rad) + 1 <= 32768
+    assert 1 <= speed_wire(limits.max_speed_rad_s) <= 65535
+    assert 1 <= torque_limit_wire(limits.max_torque_nm) <= 65535
+
+
+def test_device_latches_a_torque_over_its_limit_while_holding_the_arm(rig) -> None:
+    dyno, sim, _ = rig
+    dyno.set_torque_limit(5.0)
+    sim.leg.shaft_torque_nm = lambda t, q, qd, qdd: np.full(len(q), 8.0)  # a subject pushing
+    deadline = time.monotonic() + 2.0
+    while sim.state != p.State.FAULT and time.monotonic() < deadline:
+        time.sleep(0.01)
+    assert sim.state == p.State.FAULT and p.Fault.TORQUE_LIMIT in sim.fault
+
+
+def test_device_refuses_a_torque_limit_above_its_own_ceiling(rig) -> None:
+    dyno, sim, _ = rig
+    from drivers import CommandRefusedError
+
+    big = DynamometerLimits.from_degrees(0.0, 90.0, 10.0, 1000.0)
+    object.__setattr__(dyno, "limits", big)
+    with pytest.raises(CommandRefusedError):
+        dyno.set_torque_limit(sim.max_torque_limit_nm + 10.0)
+
+
+def test_device_stops_at_a_rom_narrowed_mid_move(rig) -> None:
+    dyno, sim, _ = rig
+    dyno.set_passive_isokinetic(math.radians(10.0))
+    dyno.set_range_of_motion(0.0, math.radians(90.0))
+    dyno.move_to(math.radians(80.0))
+    time.sleep(0.5)
+    dyno.set_range_of_motion(0.0, math.radians(sim.position_deg + 1.0))
+    deadline = time.monotonic() + 2.0
+    while sim.state == p.State.MOVING and time.monotonic() < deadline:
+        time.sleep(0.01)
+    assert sim.state == p.State.FAULT and p.Fault.ROM_LIMIT in sim.fault
+    assert sim.position_deg <= sim.rom_deg[1] + 1e-9
