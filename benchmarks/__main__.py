@@ -10,7 +10,7 @@ from pathlib import Path
 
 BENCHMARKS = {"drivers": "benchmarks.drivers", "recording": "benchmarks.recording", "aads": "benchmarks.aads",
               "diagnosis": "benchmarks.diagnosis", "pmp": "benchmarks.pmp",
-              "relaxation": "benchmarks.relaxation", "gui": "benchmarks.gui"}
+              "relaxation": "benchmarks.relaxation", "gui": "benchmarks.gui", "safety": "benchmarks.safety"}
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -26,6 +26,8 @@ from .errors import ProtocolError
 
 #: the AADS springs of the dissertation (N/m), numbered as in Table 2.1
 AADS_SPRINGS_N_PER_M = {1: 9910.0, 2: 15600.0, 3: 25200.0}
+#: telemetry periods recorded after the halt, so the trial shows the arm at rest
+HALT_RECORD_PERIODS = 10
 #: positioning speed between trials (deg/s)
 POSITIONING_SPEED_DEG_S = 30.0
 
@@ -168,6 +170,7 @@ class IsokineticProtocol(TrialProtocol):
         try:
             dyno.halt()
             mark("halted")
+            time.sleep(HALT_RECORD_PERIODS * dyno.telemetry_period_s)  # the stopped arm into the recording
         except DriverError as err:
             mark("halt_failed", error=str(err))
             try:
