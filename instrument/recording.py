@@ -23,9 +23,10 @@ import os
 import queue
 import re
 import shutil
+import tempfile
 import threading
 import time
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -40,6 +41,8 @@ log = logging.getLogger(__name__)
 FORMAT = "afo-gait-trial"
 FORMAT_VERSION = 1
 EVENT_DTYPE = h5py.string_dtype("utf-8", 1024)
+#: free space a recovery needs beyond two copies of the file (bytes)
+RECOVERY_HEADROOM_BYTES = 1 << 20
 #: rows per HDF5 chunk: about 4 s of force plate, 40 s of dynamometer
 CHUNK_ROWS = 4096
 
@@ -155,17 +158,22 @@ class TrialWriter:
         self._thread.join()
         if self._error is not None:
             raise self._error
+        self._datasets.clear()
+        f: h5py.File | None = self._file
         try:
-            self._file.close()
-            with h5py.File(self.path, "r+") as f:
-                f.attrs["status"] = status
-                f.attrs["summary"] = json.dumps({**(summary or {}), "writer": _stats_dict(self.stats)},
-                                                default=_json_default)
-                f.flush()
+            f.close()  # type: ignore[union-attr]
+            f = h5py.File(self.path, "r+")
+            f.attrs["status"] = status
+            f.attrs["summary"] = json.dumps({**(summary or {}), "writer": _stats_dict(self.stats)},
+                                            default=_json_default)
+            f.close()
+            f = None
             _fsync_path(self.path)
-        except OSError as err:
+        except (OSError, RuntimeError) as err:
+            if f is not None:
+                _detach_and_close(f, self.path)
             raise (DiskFullError if _is_disk_full(err) else RecordingError)(
-                f"{self.path}: cannot complete trial file: {err}") from err
+                f"{self.path}: cannot complete trial file: {str(err).splitlines()[0][:160]}") from err
 
     def abort(self) -> None:
         """Stop the writer without completing the file (used when the process must exit now)."""
@@ -173,10 +181,15 @@ class TrialWriter:
             self._closed = True
             self._queue.put(None)
             self._thread.join()
+        self._datasets.clear()
         try:
             self._file.close()
         except Exception:  # noqa: BLE001 - the file may be half-written; recovery handles it
             pass
+
+    def _detach_file(self) -> None:
+        """After a failed write: make sure HDF5 never writes this file again, then close it."""
+        _detach_and_close(self._file, self.path, before_close=self._datasets.clear)
 
     # ------------------------------------------------------------------ writer thread
     def _run(self) -> None:
@@ -202,10 +215,13 @@ class TrialWriter:
                     try:
                         self._write(pending, events)
                     except Exception as err:  # noqa: BLE001 - becomes the writer's typed error
-                        cls = DiskFullError if _is_disk_full(err) else RecordingError
-                        self._error = cls(f"{self.path}: write failed after {sum(self.stats.samples.values())} "
-                                          f"samples; data up to the last flush is kept: {err}")
+                        full = _is_disk_full(err)
+                        why = "disk full (no space left on device)" if full else str(err).splitlines()[0][:160]
+                        self._error = (DiskFullError if full else RecordingError)(
+                            f"{self.path}: write failed after {sum(self.stats.samples.values())} samples, "
+                            f"data up to the last flush is kept: {why}")
                         log.error("%s", self._error)
+                        self._detach_file()
                 pending, events = {}, []
 
     def _write(self, pending: dict[str, list[dict[str, np.ndarray]]], events: list[dict[str, Any]]) -> None:
@@ -297,17 +313,47 @@ def _open_for_read(path: Path) -> tuple[h5py.File, bool]:
 
 
 def read_trial(path: str | Path) -> TrialFile:
-    """Read a trial file, including one whose writer was killed (status then reads ``recording``).
+    """Read a trial file, including one whose writer was killed (status then reads ``recording``) or
+    whose disk filled mid-write (the file ends before HDF5's recorded end: rows past the real end
+    are cut, never read as zeros).
 
-    :raises CorruptFileError: missing, empty, truncated, not HDF5, or not an instrument trial.
+    :raises CorruptFileError: missing, empty, truncated beyond repair, not HDF5, or not an instrument trial.
     """
     path = Path(path)
-    f, interrupted = _open_for_read(path)
+    try:
+        return _read_trial(path, path, cut=False)
+    except CorruptFileError as err:
+        m = re.search(r"stored_eof = (\d+)", err.defect)
+        if m is None:
+            raise
+    with tempfile.TemporaryDirectory() as tmp:  # a sparse padded copy: HDF5 will not open a short file
+        padded = Path(tmp) / path.name
+        try:
+            shutil.copyfile(path, padded)
+            os.truncate(padded, int(m.group(1)))
+        except OSError as err2:
+            raise CorruptFileError(path, f"file ends before its recorded end and cannot be padded to read it: "
+                                         f"{err2}") from err2
+        try:
+            trial = _read_trial(padded, path, cut=True)
+        except CorruptFileError as err3:
+            raise CorruptFileError(path, f"truncated file ({path.stat().st_size} of {m.group(1)} bytes) whose "
+                                         f"structure is damaged: {err3.defect}") from err3
+    trial.warnings.append("the file ends before its recorded end (the disk filled); rows past the end are cut")
+    return trial
+
+
+def _read_trial(open_path: Path, path: Path, *, cut: bool) -> TrialFile:
+    real_size = path.stat().st_size if path.exists() else 0
+    f, interrupted = _open_for_read(open_path)
     warnings: list[str] = []
     try:
-        if f.attrs.get("format") != FORMAT:
-            raise CorruptFileError(path, f"not an instrument trial file (format attribute {f.attrs.get('format')!r})")
-        version = int(f.attrs.get("format_version", 0))
+        try:
+            fmt, version = f.attrs.get("format"), int(f.attrs.get("format_version", 0))
+        except (KeyError, ValueError, OSError, RuntimeError) as err:
+            raise CorruptFileError(path, f"damaged trial header: {str(err).splitlines()[0]}") from err
+        if fmt != FORMAT:
+            raise CorruptFileError(path, f"not an instrument trial file (format attribute {fmt!r})")
         if version > FORMAT_VERSION:
             raise CorruptFileError(path, f"trial format version {version} is newer than this software ({FORMAT_VERSION})")
         try:
@@ -316,15 +362,24 @@ def read_trial(path: str | Path) -> TrialFile:
             status = str(f.attrs.get("status", "recording"))
             devices: dict[str, DeviceData] = {}
             for name, g in f["devices"].items():
-                channels = {k: v[()] for k, v in g.items() if k != "gaps"}
+                if interrupted or cut:  # rows whose chunks never reached the disk are cut, never read as zeros
+                    rows = min(_valid_rows(d, real_size) for k, d in g.items() if k != "gaps")
+                    channels = {k: v[:rows] for k, v in g.items() if k != "gaps"}
+                else:
+                    channels = {k: v[()] for k, v in g.items() if k != "gaps"}
                 n = min(a.shape[0] for a in channels.values())
                 if any(a.shape[0] != n for a in channels.values()):
                     warnings.append(f"{name}: channels of unequal length after an interruption; cut to {n} samples")
                     channels = {k: v[:n] for k, v in channels.items()}
                 devices[name] = DeviceData(name, json.loads(g.attrs["identity"]), channels, g["gaps"][()])
-            events = [json.loads(e) for e in f["events"].asstr()[()]]
-        except (KeyError, ValueError, OSError) as err:
-            raise CorruptFileError(path, f"damaged trial structure: {err}") from err
+            events = []
+            for text in f["events"].asstr()[()]:
+                try:
+                    events.append(json.loads(text))
+                except ValueError:  # an event whose chunk never reached the disk reads back empty
+                    warnings.append("an event was lost in an interrupted write")
+        except (KeyError, ValueError, OSError, RuntimeError) as err:
+            raise CorruptFileError(path, f"damaged trial structure: {str(err).splitlines()[0]}") from err
     finally:
         f.close()
     if interrupted and status == "recording":
@@ -374,8 +429,14 @@ def recover_trial_file(path: str | Path) -> RecoveryReport:
     path = Path(path)
     t0 = time.perf_counter()
     work, real_size = path, path.stat().st_size if path.exists() else 0
+    free = shutil.disk_usage(path.parent).free if path.parent.exists() else 0
+    if free < 2 * real_size + RECOVERY_HEADROOM_BYTES:
+        # a copy that fills the disk would fail half-way (and HDF5 retries its writes at exit)
+        return RecoveryReport(path, {}, time.perf_counter() - t0, False,
+                              f"not enough free space to recover ({free} bytes free, {real_size}-byte file); "
+                              "the file is kept as it is")
     try:
-        read_trial(path)
+        _open_for_read(path)[0].close()
     except CorruptFileError as err:
         m = re.search(r"stored_eof = (\d+)", err.defect)
         if m is None:
@@ -411,6 +472,32 @@ def recover_trial_file(path: str | Path) -> RecoveryReport:
         os.replace(path, path.with_suffix(".damaged"))
     os.replace(tmp, path)
     return RecoveryReport(path, samples, time.perf_counter() - t0, True)
+
+
+def _detach_and_close(f: h5py.File, path: Path, before_close: Callable[[], None] | None = None) -> None:
+    """Close ``f`` after a failed write without HDF5 ever writing to the file again.
+
+    HDF5 keeps the metadata it could not flush and retries at close and again at interpreter
+    exit, where a second failure crashed the process (SIGSEGV) and left a half-written file.
+    Pointing the file's descriptor at ``/dev/null`` lets those writes succeed harmlessly: the
+    file on disk stays as the last successful flush left it (SWMR-readable; recovery copies it
+    into a clean file once there is room).
+    """
+    try:
+        fd = f.id.get_vfd_handle()
+        null = os.open(os.devnull, os.O_WRONLY)
+        try:
+            os.dup2(null, fd)
+        finally:
+            os.close(null)
+    except Exception:  # noqa: BLE001 - best effort; the file is closed below either way
+        log.exception("%s: could not detach the file after a write error", path)
+    if before_close is not None:  # handles to the file's objects go only now: closing them writes too
+        before_close()
+    try:
+        f.close()
+    except Exception:  # noqa: BLE001 - nothing more can be written; the disk keeps the last flush
+        pass
 
 
 def _fsync_path(path: Path) -> None:

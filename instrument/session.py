@@ -17,7 +17,7 @@ from drivers import ConnectionLostError, StreamingDevice
 
 from . import __version__
 from .acquisition import AcquisitionEngine, DeviceReport
-from .errors import RecordingError
+from .errors import DiskFullError, RecordingError
 from .protocols import TrialProtocol
 from .recording import TrialWriter
 from .store import SessionStore
@@ -102,6 +102,8 @@ def record_trial(store: SessionStore, session_id: int, protocol: TrialProtocol,
     if engine.recording_error is not None or writer.error is not None:
         err = writer.error or engine.recording_error
         writer.abort()
+        if isinstance(err, DiskFullError):
+            store.release_reserve()  # room for the index to say what happened
         store.finish_trial(trial_id, "failed", counts, reason=str(err))
         raise err if isinstance(err, RecordingError) else RecordingError(str(err))
     lost_links = {n: r for n, r in reports.items() if any(ConnectionLostError.__name__ in e for e in r.errors)}

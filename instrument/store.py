@@ -87,6 +87,8 @@ MIGRATIONS: list[str] = [
     """,
 ]
 SCHEMA_VERSION = len(MIGRATIONS)
+#: bytes of ballast each writable store keeps, released when the disk fills mid-trial
+RESERVE_BYTES = 1 << 20
 
 
 @dataclass
@@ -178,6 +180,8 @@ class SessionStore:
         self._db.row_factory = sqlite3.Row
         self._db.execute("PRAGMA foreign_keys=ON")
         self._migrate()
+        if not read_only:
+            self._ensure_reserve()
         if recover and not read_only:
             self.recovered = self.recover_interrupted()
 
@@ -217,6 +221,30 @@ class SessionStore:
             if "disk" in str(err) and "full" in str(err):
                 raise StoreError(f"{self.root}: disk full while writing the store index: {err}") from err
             raise StoreError(f"{self.root}: {err}") from err
+
+    # ------------------------------------------------------------------ disk-full reserve
+    @property
+    def reserve_path(self) -> Path:
+        """A ballast file whose space is given back when the disk fills mid-trial."""
+        return self.root / ".reserve"
+
+    def _ensure_reserve(self) -> None:
+        if self.reserve_path.exists():
+            return
+        try:
+            with open(self.reserve_path, "wb") as fh:
+                os.posix_fallocate(fh.fileno(), 0, RESERVE_BYTES)
+        except OSError:  # too little room to keep a reserve: nothing to give back later
+            self.reserve_path.unlink(missing_ok=True)
+
+    def release_reserve(self) -> bool:
+        """Delete the reserve so the trial's status and the index can still be written on a full
+        disk; True if there was one. It is made again the next time the store opens."""
+        try:
+            self.reserve_path.unlink()
+            return True
+        except FileNotFoundError:
+            return False
 
     def close(self) -> None:
         self._db.close()

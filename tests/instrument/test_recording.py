@@ -137,6 +137,7 @@ def test_disk_full_is_a_clear_error_and_earlier_trials_stay_intact(tmp_path: Pat
                          capture_output=True, text=True, timeout=60)
     assert "DiskFullError:" in out.stdout, out.stdout + out.stderr
     assert "data up to the last flush is kept" in out.stdout
+    assert out.returncode == 0, out.stderr[-2000:]  # no crash at exit (HDF5 once retried its writes: SIGSEGV)
     store = SessionStore(store_dir)  # opening repairs the failed trial's file (the disk has room again)
     first, second = store.trials()
     assert first.status == "recorded" and read_trial(first.path).devices["force_plate"].samples == 500
@@ -179,3 +180,31 @@ def test_metadata_snapshot_is_json_with_numpy_values(tmp_path: Path) -> None:
     t = read_trial(tmp_path / "m.h5")
     assert np.allclose(t.metadata["calibration"], np.eye(6)) and t.metadata["zero_v"] == 0.5
     assert json.loads(json.dumps(t.metadata)) == t.metadata
+
+
+CLI_DISK_FULL = textwrap.dedent("""
+    import resource, signal, sys
+    sys.path.insert(0, {root!r})
+    signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+    resource.setrlimit(resource.RLIMIT_FSIZE, (1_200_000, 1_200_000))  # the data file outgrows it mid-trial
+    from instrument.cli import main
+    sys.exit(main(["record", "--simulate", "--protocol", "aads", "--store", {store!r}]))
+""")
+
+
+def test_record_on_a_full_disk_exits_with_one_line_and_keeps_what_reached_the_disk(tmp_path: Path) -> None:
+    store_dir = tmp_path / "store"
+    out = subprocess.run([sys.executable, "-c", CLI_DISK_FULL.format(root=str(ROOT), store=str(store_dir))],
+                         capture_output=True, text=True, timeout=120)
+    assert out.returncode == 1, (out.returncode, out.stderr[-2000:])
+    last = out.stderr.strip().splitlines()[-1]
+    assert last.startswith("error:") and "disk full" in last and "Traceback" not in out.stderr
+    store = SessionStore(store_dir, recover=False)
+    (trial,) = store.trials()
+    assert trial.status == "failed" and "disk full" in (trial.reason or "")
+    data = read_trial(trial.path)  # readable at once, before any recovery
+    plate = data.devices["force_plate"]
+    assert plate.samples > 0
+    np.testing.assert_array_equal(np.diff(plate.channels["counter"]), 1)
+    assert np.isfinite(plate.channels["force_n"]).all() and (plate.channels["time_s"] > 0).all()
+    store.close()
