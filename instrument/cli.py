@@ -5,10 +5,32 @@ from __future__ import annotations
 import argparse
 import json
 import logging
+import math
 import sys
+from collections.abc import Callable
 from pathlib import Path
 
-from .errors import InstrumentError
+from drivers.dynamometer import DEFAULT_LIMITS
+from drivers.errors import DriverError, LimitViolationError
+
+from .errors import InstrumentError, ProtocolError
+
+
+#: the fastest sweep the command line may ask for: the driver's default envelope
+_MAX_SPEED_DEG_S = math.degrees(DEFAULT_LIMITS.max_speed_rad_s)
+
+
+def _bounded(low: float, high: float, unit: str) -> Callable[[str], float]:
+    """An argparse type: a finite number in ``low..high`` (a usage error, exit 2, otherwise)."""
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+        if not (math.isfinite(value) and low <= value <= high):
+            raise argparse.ArgumentTypeError(f"{text} is outside {low:g}..{high:g} {unit}")
+        return value
+    return parse
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -29,11 +51,12 @@ def build_parser() -> argparse.ArgumentParser:
     rec.add_argument("--trial", type=int, default=1, help="trial number")
     rec.add_argument("--spring", type=int, default=2, choices=(1, 2, 3), help="AADS spring (9910, 15600, 25200 N/m)")
     rec.add_argument("--aads-operator", type=int, default=1, choices=(1, 2, 3, 4), help="AADS operator style")
-    rec.add_argument("--seconds", type=float, default=6.0, help="AADS bending time (s)")
+    rec.add_argument("--seconds", type=_bounded(1.0, 120.0, "s"), default=6.0, help="AADS bending time (s, 1–120)")
     rec.add_argument("--hip", type=float, default=90.0, choices=(90.0, 55.0, 15.0), help="knee trials: hip flexion (deg)")
     rec.add_argument("--knee", type=float, default=0.0, choices=(0.0, 45.0, 90.0), help="ankle trials: knee flexion (deg)")
-    rec.add_argument("--speed", type=float, default=5.0, help="isokinetic speed (deg/s)")
-    rec.add_argument("--hold", type=float, default=2.0, help="replica leg: hold time per angle (s)")
+    rec.add_argument("--speed", type=_bounded(0.5, _MAX_SPEED_DEG_S, "°/s"), default=5.0,
+                     help=f"isokinetic speed (deg/s, 0.5–{_MAX_SPEED_DEG_S:g})")
+    rec.add_argument("--hold", type=_bounded(0.2, 30.0, "s"), default=2.0, help="replica leg: hold time per angle (s, 0.2–30)")
     rec.add_argument("--seed", type=int, default=0)
 
     ses = sub.add_parser("sessions", help="list subjects, sessions and trials of a store")
@@ -205,10 +228,12 @@ def cmd_analyze(args: argparse.Namespace) -> int:
     return 0 if experiment.results and not experiment.failed else 1
 
 
-def _store(path: Path | None, read_only: bool = False):  # noqa: ANN202
-    from .store import SessionStore, default_store_dir
+def _store(path: Path | None, read_only: bool = False, reading: bool = False):  # noqa: ANN202
+    """The store; ``reading`` commands fall back to read-only where the medium cannot be written."""
+    from .store import SessionStore, default_store_dir, open_store
 
-    store = SessionStore(path or default_store_dir(), read_only=read_only)
+    root = path or default_store_dir()
+    store = open_store(root) if reading else SessionStore(root, read_only=read_only)
     for r in store.recovered:
         print(f"recovered interrupted trial file {r.path} ({r.samples} samples, {r.seconds * 1e3:.0f} ms)",
               file=sys.stderr)
@@ -245,7 +270,7 @@ def cmd_record(args: argparse.Namespace) -> int:
 
 
 def cmd_sessions(args: argparse.Namespace) -> int:
-    store = _store(args.store)
+    store = _store(args.store, reading=True)
     trials = store.trials()
     if args.json:
         print(json.dumps({"subjects": [s.as_dict() for s in store.subjects()], "sessions": store.sessions(),
@@ -265,11 +290,13 @@ def cmd_sessions(args: argparse.Namespace) -> int:
 
 
 def cmd_export(args: argparse.Namespace) -> int:
-    from .export import export_trial
+    from .export import check_export_targets, export_trial
     from .recording import read_trial
 
-    store = _store(args.store)
+    store = _store(args.store, reading=True)
     rec = store.trial(args.trial_id)
+    check_export_targets(args.format, args.output, store_root=store.root,
+                         inputs=[rec.path, store.root / "store.sqlite"])
     trial = read_trial(rec.path)
     try:
         subject = store.subject(rec.subject_code).as_dict()
@@ -277,7 +304,8 @@ def cmd_export(args: argparse.Namespace) -> int:
         subject = None
     files = export_trial(trial, args.format, args.output, subject)
     for f in files:
-        store.add_file(rec.id, f"export-{f.suffix.lstrip('.')}", f.resolve())
+        if not store.read_only:
+            store.add_file(rec.id, f"export-{f.suffix.lstrip('.')}", f.resolve())
         print(f"wrote {f}")
     return 0
 
@@ -292,16 +320,31 @@ def main(argv: list[str] | None = None) -> int:
             return demo_main(args.seconds, args.out, faults=not args.no_faults)
         return {"record": cmd_record, "sessions": cmd_sessions, "export": cmd_export,
                 "analyze": cmd_analyze, "diagnose": cmd_diagnose, "gui": cmd_gui}[args.command](args)
-    except (InstrumentError, OSError) as err:
-        print(f"error: {err}", file=sys.stderr)
+    except KeyboardInterrupt:
+        print("error: interrupted", file=sys.stderr)
+        return 130
+    except (LimitViolationError, ProtocolError) as err:  # what was asked is outside what may be done
+        print(f"error: {_one_line(err)}", file=sys.stderr)
+        return 2
+    except (InstrumentError, DriverError, OSError) as err:
+        print(f"error: {_one_line(err)}", file=sys.stderr)
         return 1
-    except Exception as err:  # analysis errors carry their own message
+    except Exception as err:  # noqa: BLE001 - analysis errors carry their own message; the rest is a bug
         from analysis.errors import AnalysisError
 
         if isinstance(err, AnalysisError):
-            print(f"error: {err}", file=sys.stderr)
+            print(f"error: {_one_line(err)}", file=sys.stderr)
             return 1
-        raise
+        if args.verbose:
+            raise
+        print(f"error: internal error ({type(err).__name__}: {_one_line(err)}); nothing recorded was changed; "
+              "rerun with -v for the traceback and report it", file=sys.stderr)
+        return 1
+
+
+def _one_line(err: BaseException) -> str:
+    text = str(err).strip()
+    return text.splitlines()[0] if text else type(err).__name__
 
 
 if __name__ == "__main__":

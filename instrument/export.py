@@ -149,6 +149,30 @@ def motion_from_channels(markers: dict[str, np.ndarray], mocap_identity: dict[st
                        {"plate_identity": plate_identity, "mocap_identity": mocap_identity})
 
 
+def export_targets(fmt: str, out: str | Path) -> list[Path]:
+    """The files an export of ``fmt`` to ``out`` writes (a CSV brings its JSON sidecar)."""
+    out = Path(out)
+    return [out, out.with_suffix(".json")] if fmt == "csv" else [out]
+
+
+def check_export_targets(fmt: str, out: str | Path, *, store_root: Path | None, inputs: list[Path]) -> None:
+    """Refuse an export that would write inside the store or over one of its own inputs.
+
+    :raises ExportError: names the file and why.
+    """
+    targets = [t.resolve() for t in export_targets(fmt, out)]
+    if len(set(targets)) != len(targets):
+        raise ExportError(f"{out}: a {fmt} export writes {Path(out).with_suffix('.json').name} beside it; "
+                          "choose a name that does not end in .json")
+    root = store_root.resolve() if store_root is not None else None
+    sources = {p.resolve() for p in inputs}
+    for t in targets:
+        if t in sources:
+            raise ExportError(f"{t}: is an input of this export; exports never overwrite their inputs")
+        if root is not None and (t == root or root in t.parents):
+            raise ExportError(f"{t}: is inside the store {root}; exports are written outside it")
+
+
 def export_trial(trial: TrialFile, fmt: str, out: str | Path, subject: dict[str, Any] | None = None) -> list[Path]:
     """Write ``trial`` as ``fmt`` to ``out``; returns the files written.
 

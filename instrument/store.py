@@ -9,6 +9,7 @@ flushed data is kept and the trial is marked ``interrupted``.
 
 from __future__ import annotations
 
+import fcntl
 import json
 import os
 import socket
@@ -165,21 +166,26 @@ class SessionStore:
         self._migrations = MIGRATIONS if migrations is None else migrations
         self.recovered: list[RecoveryReport] = []
         self._write_lock = threading.RLock()
+        self._locks: dict[int, TrialLock] = {}
         db = self.root / "store.sqlite"
-        if read_only:
-            if not db.exists():
-                raise StoreError(f"{self.root}: no store here (store.sqlite missing)")
-            self._db = sqlite3.connect(f"file:{db}?mode=ro", uri=True, check_same_thread=False)
-        else:
-            try:
-                (self.root / "trials").mkdir(parents=True, exist_ok=True)
-                self._db = sqlite3.connect(db, check_same_thread=False, timeout=10.0)
-                self._db.execute("PRAGMA journal_mode=WAL")
-            except (OSError, sqlite3.OperationalError) as err:
-                raise StoreReadOnlyError(f"{self.root}: cannot create or write the store: {err}") from err
-        self._db.row_factory = sqlite3.Row
-        self._db.execute("PRAGMA foreign_keys=ON")
-        self._migrate()
+        try:
+            if read_only:
+                if not db.exists():
+                    raise StoreError(f"{self.root}: no store here (store.sqlite missing)")
+                self._db = _connect_read_only(db)
+            else:
+                try:
+                    (self.root / "trials").mkdir(parents=True, exist_ok=True)
+                    self._db = sqlite3.connect(db, check_same_thread=False, timeout=10.0)
+                    self._db.execute("PRAGMA journal_mode=WAL")
+                except (OSError, sqlite3.OperationalError) as err:
+                    raise StoreReadOnlyError(f"{self.root}: cannot create or write the store: {err}") from err
+            self._db.row_factory = sqlite3.Row
+            self._db.execute("PRAGMA foreign_keys=ON")
+            self._migrate()
+        except sqlite3.DatabaseError as err:  # "file is not a database", "database disk image is malformed"
+            raise StoreError(f"{db}: not a readable store database ({err}); the trial files beside it are "
+                             "untouched") from err
         if not read_only:
             self._ensure_reserve()
         if recover and not read_only:
@@ -202,9 +208,25 @@ class SessionStore:
         if self.read_only:
             raise StoreReadOnlyError(f"{self.root}: store schema {current} needs migrating to {target}, "
                                      "but it was opened read-only")
-        with self._write() as db:
-            for version in range(current, target):
-                db.executescript(f"BEGIN; {self._migrations[version]}; PRAGMA user_version = {version + 1}; COMMIT;")
+        # several processes may open a new store at once: the migration is one IMMEDIATE
+        # transaction (one writer at a time) that re-reads the version inside it
+        db = self._db
+        with self._write_lock:
+            try:
+                db.execute("BEGIN IMMEDIATE")
+                try:
+                    current = int(db.execute("PRAGMA user_version").fetchone()[0])
+                    for version in range(current, target):
+                        for statement in _statements(self._migrations[version]):
+                            db.execute(statement)
+                        db.execute(f"PRAGMA user_version = {version + 1}")
+                    db.execute("COMMIT")
+                except BaseException:
+                    db.execute("ROLLBACK")
+                    raise
+            except sqlite3.DatabaseError as err:
+                raise StoreError(f"{self.root}: cannot migrate the store schema from {current} to {target}: "
+                                 f"{err}") from err
 
     @contextmanager
     def _write(self) -> Iterator[sqlite3.Connection]:
@@ -303,6 +325,7 @@ class SessionStore:
             path.parent.mkdir(parents=True, exist_ok=True)
         except OSError as err:
             raise StoreReadOnlyError(f"{self.root}: cannot create {path.parent}: {err}") from err
+        lock = TrialLock(path)  # held until finish_trial (or this process ends): recovery leaves the file alone
         with self._write() as db:
             cur = db.execute(
                 "INSERT INTO trials (session_id, protocol, condition_json, operator, trial_number, status, "
@@ -311,6 +334,7 @@ class SessionStore:
                  socket.gethostname(), os.getpid()))
             trial_id = int(cur.lastrowid)  # type: ignore[arg-type]
             db.execute("INSERT INTO trial_files (trial_id, role, path) VALUES (?, 'data', ?)", (trial_id, str(rel)))
+        self._locks[trial_id] = lock
         return trial_id, path
 
     def finish_trial(self, trial_id: int, status: str, devices: dict[str, dict[str, int]],
@@ -318,6 +342,15 @@ class SessionStore:
         """Close a trial: final status, end time and per-device counts (samples, lost_samples, gaps)."""
         if status not in TRIAL_STATUSES:
             raise ValueError(f"unknown trial status {status!r}; one of {TRIAL_STATUSES}")
+        lock = self._locks.pop(trial_id, None)
+        try:
+            self._finish_trial(trial_id, status, devices, reason)
+        finally:
+            if lock is not None:
+                lock.release()
+
+    def _finish_trial(self, trial_id: int, status: str, devices: dict[str, dict[str, int]],
+                      reason: str | None) -> None:
         with self._write() as db:
             db.execute("UPDATE trials SET status=?, reason=?, ended_at=? WHERE id=?",
                        (status, reason, time.time(), trial_id))
@@ -386,16 +419,115 @@ class SessionStore:
                 continue
             if t.status != "recording":
                 continue
-            row = self._db.execute("SELECT writer_host, writer_pid FROM trials WHERE id=?", (t.id,)).fetchone()
-            if row["writer_host"] == host and _pid_alive(row["writer_pid"]):
-                continue  # still being written by a live process
+            alive = TrialLock.held(t.path)
+            if alive is None:  # a trial from before writer locks: the host and process id tell
+                row = self._db.execute("SELECT writer_host, writer_pid FROM trials WHERE id=?", (t.id,)).fetchone()
+                alive = row["writer_host"] != host or _pid_alive(row["writer_pid"])
+            if alive:
+                continue  # still being written (here, in another container, or on another host)
             report = recover_trial_file(t.path)
             reports.append(report)
             counts = {n: {"samples": s} for n, s in report.samples.items()}
             reason = ("writer stopped before completing the file; data recovered up to its last flush"
                       if report.readable else f"writer stopped; data file unreadable: {report.defect}")
             self.finish_trial(t.id, "interrupted", counts, reason=reason)
+            TrialLock.remove_stale(t.path)
         return reports
+
+
+class TrialLock:
+    """An exclusive ``flock`` on ``TRIAL.h5.lock`` for as long as a trial is being written.
+
+    Any process that opens the store respects it, whatever its host or PID namespace: the kernel
+    (or NFS's lock manager) releases it when the writer ends, however it ends, so a free lock on
+    a trial still marked ``recording`` means its writer is gone.
+    """
+
+    def __init__(self, data_path: Path) -> None:
+        self.path = TrialLock.path_for(data_path)
+        self._fd: int | None = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o644)
+        try:
+            fcntl.flock(self._fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError as err:
+            os.close(self._fd)
+            self._fd = None
+            raise StoreError(f"{self.path}: trial file is locked by another writer: {err}") from err
+        os.write(self._fd, f"{socket.gethostname()} {os.getpid()}\n".encode())
+
+    @staticmethod
+    def path_for(data_path: Path) -> Path:
+        return data_path.with_name(data_path.name + ".lock")
+
+    def release(self) -> None:
+        """Unlock and remove the lock file (the trial is complete)."""
+        if self._fd is None:
+            return
+        self.path.unlink(missing_ok=True)
+        fcntl.flock(self._fd, fcntl.LOCK_UN)
+        os.close(self._fd)
+        self._fd = None
+
+    @staticmethod
+    def held(data_path: Path) -> bool | None:
+        """True while a writer holds the trial's lock, False when the lock is free, None when the
+        trial has no lock file (written before writer locks existed)."""
+        lock = TrialLock.path_for(data_path)
+        try:
+            fd = os.open(lock, os.O_RDONLY)
+        except FileNotFoundError:
+            return None
+        except OSError:
+            return True  # cannot tell: never take a file from a writer that may be alive
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            return True
+        except OSError:
+            return True
+        else:
+            fcntl.flock(fd, fcntl.LOCK_UN)
+            return False
+        finally:
+            os.close(fd)
+
+    @staticmethod
+    def remove_stale(data_path: Path) -> None:
+        TrialLock.path_for(data_path).unlink(missing_ok=True)
+
+
+def _connect_read_only(db: Path) -> sqlite3.Connection:
+    """Read-only connection; on read-only media (where SQLite cannot make the WAL's shared-memory
+    file) the database is opened as immutable."""
+    conn = sqlite3.connect(f"file:{db}?mode=ro", uri=True, check_same_thread=False)
+    try:
+        conn.execute("PRAGMA user_version").fetchone()
+        return conn
+    except sqlite3.OperationalError:
+        conn.close()
+        return sqlite3.connect(f"file:{db}?immutable=1", uri=True, check_same_thread=False)
+
+
+def open_store(root: str | Path) -> "SessionStore":
+    """Open a store to read it: writable (so interrupted trials are recovered) where possible,
+    read-only where the folder or medium cannot be written."""
+    try:
+        return SessionStore(root)
+    except StoreReadOnlyError:
+        return SessionStore(root, read_only=True)
+
+
+def _statements(script: str) -> list[str]:
+    """The SQL statements of a migration script, one by one (``executescript`` would commit)."""
+    out, buf = [], ""
+    for line in script.splitlines(keepends=True):
+        buf += line
+        if sqlite3.complete_statement(buf):
+            if buf.strip().strip(";").strip():
+                out.append(buf.strip())
+            buf = ""
+    if buf.strip():
+        out.append(buf.strip())
+    return out
 
 
 def _needs_repair(path: Path) -> bool:
