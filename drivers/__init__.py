@@ -12,6 +12,7 @@ from .dynamometer import Dynamometer, DynamometerLimits, open_dynamometer
 from .errors import (
     CommandRefusedError,
     ConnectionLostError,
+    CounterResyncError,
     DeviceInitializationError,
     DeviceNotAvailableError,
     DeviceOperationError,
@@ -24,7 +25,7 @@ from .mocap import MarkerStream, open_marker_stream
 from .torque import TorqueSensor, open_torque_sensor
 
 __all__ = [
-    "CommandRefusedError", "ConnectionLostError", "DeviceInitializationError", "DeviceNotAvailableError",
+    "CommandRefusedError", "ConnectionLostError", "CounterResyncError", "DeviceInitializationError", "DeviceNotAvailableError",
     "DeviceOperationError", "DeviceStats", "DeviceTimeoutError", "DriverError", "Dynamometer",
     "DynamometerBlock", "DynamometerLimits", "ForcePlate", "ForcePlateBlock", "LimitViolationError",
     "MarkerBlock", "MarkerStream", "open_marker_stream",

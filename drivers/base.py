@@ -26,6 +26,7 @@ from .blocks import SampleBlock
 from .clock import monotonic_s
 from .errors import (
     ConnectionLostError,
+    CounterResyncError,
     DeviceInitializationError,
     DeviceTimeoutError,
     DriverError,
@@ -47,12 +48,15 @@ class DeviceStats:
     crc_errors: int = 0
     malformed_frames: int = 0
     garbage_bytes: int = 0
+    unsolicited_frames: int = 0
+    counter_resyncs: int = 0
     timeouts: int = 0
     disconnects: int = 0
     reconnects: int = 0
     first_time_s: float = float("nan")
     last_time_s: float = float("nan")
     last_counter: int = -1
+    last_counter_valid: bool = False
     reader_cpu_s: float = 0.0
     gap_log: list[tuple[int, int]] = field(default_factory=list)
 
@@ -79,6 +83,10 @@ class StreamingDevice(ABC):
 
     kind: ClassVar[str] = "device"
     block_type: ClassVar[type[SampleBlock]] = SampleBlock
+    #: a counter this far at or below the last one is a repeat (dropped)
+    reorder_window: ClassVar[int] = 8
+    #: the largest forward counter step taken as a gap; larger steps are a resync (samples kept)
+    max_counter_jump: ClassVar[int] = 10_000
 
     def __init__(
         self,
@@ -262,22 +270,35 @@ class StreamingDevice(ABC):
             self._events.put(block)
 
     def _account(self, block: SampleBlock) -> SampleBlock:
-        """Update gap/duplicate counts; drop samples whose counter does not advance."""
+        """Update gap/duplicate counts; drop repeated samples; resynchronise on an implausible counter.
+
+        A counter at or just below the last one (within :attr:`reorder_window`) is a repeat and is
+        dropped. One that moves forward by up to :attr:`max_counter_jump` leaves a gap of lost
+        samples. Any other jump (a device that restarted its counter, a corrupted counter with a
+        valid checksum) is no reason to discard data: the sample is kept, the counter taken as the
+        new reference, and a :class:`~drivers.errors.CounterResyncError` event reports it in order.
+        """
         counters = block.counter
         s = self.stats
         keep = np.ones(len(counters), dtype=bool)
         last = s.last_counter
+        seen = s.last_counter_valid
         for i, c in enumerate(counters.tolist()):
-            if last >= 0 and c <= last:
+            if seen and last - self.reorder_window <= c <= last:
                 keep[i] = False
                 s.duplicate_samples += 1
                 continue
-            if last >= 0 and c > last + 1:
-                s.gaps += 1
-                s.lost_samples += c - last - 1
-                s.gap_log.append((last, c))
-            last = c
-        s.last_counter = last
+            if seen and last < c <= last + self.max_counter_jump:
+                if c > last + 1:
+                    s.gaps += 1
+                    s.lost_samples += c - last - 1
+                    s.gap_log.append((last, c))
+            elif seen:
+                s.counter_resyncs += 1
+                self._events.put(CounterResyncError(
+                    f"{self.name}: counter jumped from {last} to {c}; resynchronised, samples kept"))
+            last, seen = c, True
+        s.last_counter, s.last_counter_valid = int(last), seen
         if not keep.all():
             block = type(block)(**{
                 f: (v[keep] if isinstance(v, np.ndarray) else v)

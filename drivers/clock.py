@@ -23,13 +23,16 @@ class CounterClock:
 
     :param rate_hz: nominal device sample rate in Hz.
     :param window_s: how long an offset estimate is trusted, in seconds.
+    :param resync_s: an arrival this far (s) from the estimate means the counter jumped: the
+        clock anchors again on the arrival instead of stamping samples seconds away from it.
     """
 
-    def __init__(self, rate_hz: float, window_s: float = 10.0) -> None:
+    def __init__(self, rate_hz: float, window_s: float = 10.0, resync_s: float = 1.0) -> None:
         if rate_hz <= 0:
             raise ValueError(f"rate_hz must be > 0, got {rate_hz}")
         self.rate_hz = float(rate_hz)
         self.window_s = window_s
+        self.resync_s = resync_s
         self._offset: float | None = None
         self._offset_time = 0.0
 
@@ -38,6 +41,8 @@ class CounterClock:
         device_s = counters.astype(np.float64) / self.rate_hz
         candidate = arrival_s - float(device_s[-1])
         stale = arrival_s - self._offset_time > self.window_s
+        if self._offset is not None and abs(candidate - self._offset) > self.resync_s:
+            self._offset = None  # the counter jumped (device reset, corrupted counter): anchor again
         if self._offset is None or stale:
             self._offset = candidate if self._offset is None else max(candidate, self._offset)
             self._offset_time = arrival_s
@@ -52,21 +57,30 @@ class CounterClock:
 
 
 class CounterUnwrapper:
-    """Unwraps an ``bits``-bit wrapping device counter to a monotonically growing int64."""
+    """Unwraps an ``bits``-bit wrapping device counter to an int64 by the signed modular step.
+
+    Each reading moves the unwrapped value by the shortest step modulo ``2**bits`` from the
+    previous reading (forward up to half the modulus, backward otherwise), so one corrupted or
+    reset counter moves it once and the next good reading moves it back: it never shifts every
+    later sample by a whole modulus.
+    """
 
     def __init__(self, bits: int) -> None:
         self.modulus = 1 << bits
         self._last_raw: int | None = None
-        self._epoch = 0
+        self._value = 0
 
     def unwrap(self, raw: int) -> int:
         """Unwrapped value of one raw counter reading."""
-        if self._last_raw is not None and raw < self._last_raw and self._last_raw - raw > self.modulus // 2:
-            self._epoch += self.modulus
+        if self._last_raw is None:
+            self._value = raw
+        else:
+            step = (raw - self._last_raw) % self.modulus
+            self._value += step if step < self.modulus // 2 else step - self.modulus
         self._last_raw = raw
-        return self._epoch + raw
+        return self._value
 
     def reset(self) -> None:
         """Start again (the device restarted its counter)."""
         self._last_raw = None
-        self._epoch = 0
+        self._value = 0

@@ -5,6 +5,7 @@
  ├── ``DeviceInitializationError`` device found but could not be opened or configured
  ├── ``DeviceOperationError``      an operation failed on an open device
  │    ├── ``ConnectionLostError``  the link vanished mid-stream (the driver keeps reconnecting)
+ │    ├── ``CounterResyncError``   the device counter jumped implausibly; the samples were kept
  │    └── ``CommandRefusedError``  the device answered a command with a refusal
  ├── ``DeviceTimeoutError``        the device stayed silent (also a ``TimeoutError``)
  └── ``LimitViolationError``       a command outside the configured safety limits (also a ``ValueError``);
@@ -47,6 +48,11 @@ class DeviceOperationError(DriverError):
 
 class ConnectionLostError(DeviceOperationError):
     """The link to the device vanished while streaming; the reader keeps trying to reconnect."""
+
+
+class CounterResyncError(DeviceOperationError):
+    """The device's sample counter jumped where no gap is plausible (a restarted or corrupted
+    counter); the driver kept the samples and took the new counter as its reference."""
 
 
 class CommandRefusedError(DeviceOperationError):

@@ -34,6 +34,8 @@ from typing import Any
 import h5py
 import numpy as np
 
+from drivers import StreamingDevice
+
 from .errors import CorruptFileError, DiskFullError, RecordingError
 
 log = logging.getLogger(__name__)
@@ -236,7 +238,9 @@ class TrialWriter:
                 data = np.concatenate([b[channel] for b in blocks])
                 dset.resize(n0 + data.shape[0], axis=0)
                 dset[n0:] = data
-            jumps = np.flatnonzero(np.diff(np.concatenate([[self._last_counter[name]], counters])) > 1)
+            steps = np.diff(np.concatenate([[self._last_counter[name]], counters]))
+            # a gap is a plausible forward jump; larger ones are counter resyncs (reported as events)
+            jumps = np.flatnonzero((steps > 1) & (steps <= StreamingDevice.max_counter_jump))
             if self._last_counter[name] < 0:
                 jumps = jumps[jumps > 0]
             if jumps.size:

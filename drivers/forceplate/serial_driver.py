@@ -22,6 +22,10 @@ from . import ForcePlate
 from . import protocol as p
 
 
+#: replies and other non-sample frames kept for a command to pick up; older ones are dropped and counted
+MAX_PENDING_REPLIES = 32
+
+
 class SerialForcePlate(ForcePlate):
     """Framed six-channel stream; applies the 6×6 calibration and zero offsets, computes the CoP.
 
@@ -151,6 +155,9 @@ class SerialForcePlate(ForcePlate):
         s.crc_errors, s.malformed_frames, s.garbage_bytes = (
             self._parser.crc_errors, self._parser.malformed_frames, self._parser.garbage_bytes)
         self._replies.extend(others)
+        if len(self._replies) > MAX_PENDING_REPLIES:  # replies nobody asked for are not kept forever
+            s.unsolicited_frames += len(self._replies) - MAX_PENDING_REPLIES
+            del self._replies[:-MAX_PENDING_REPLIES]
         if parsed.counters.size == 0 or self.info is None or self.zero_v is None:
             return None
         counters = np.array([self._unwrap.unwrap(int(c)) for c in parsed.counters], dtype=np.int64)

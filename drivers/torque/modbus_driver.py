@@ -182,12 +182,19 @@ class ModbusTorqueSensor(TorqueSensor):
             return None
         except OSError as err:
             raise ConnectionLostError(f"{self.name}: link to {self.port} lost: {err}") from err
+        except Exception:  # noqa: BLE001 - a reply pymodbus could not make sense of is one bad frame
+            self.stats.malformed_frames += 1
+            return None
         if rr.isError():
             self.stats.malformed_frames += 1
             return None
         if self._client is None or not self._client.connected:
             raise ConnectionLostError(f"{self.name}: link to {self.port} lost")
-        return list(rr.registers)
+        registers = list(getattr(rr, "registers", None) or [])
+        if len(registers) != count:  # a valid CRC around the wrong register count: a bad frame, counted
+            self.stats.malformed_frames += 1
+            return None
+        return registers
 
     # -- polling
     def _read_internal(self) -> TorqueBlock | None:
