@@ -295,8 +295,8 @@ def operator_drill(out: Path) -> tuple[dict[str, Any], bool]:
 
     print("\nOperator drill (the GUI's trial runner): 3 N·m activation burst, relaxed repeat, emergency stop ...")
     store = SessionStore(out / "drill_store")
-    store.add_subject(Subject("DRILL", mass_kg=75.0, shank_length_m=0.42, foot_length_m=0.26))
-    session = store.new_session("DRILL", "drill-operator")
+    store.add_subject(Subject("DRILL01", mass_kg=75.0, shank_length_m=0.42, foot_length_m=0.26))
+    session = store.new_session("DRILL01", "drill-operator")
     source = SimulatedSource(seed=11)
     rows: dict[str, Any] = {}
     for case in ("burst", "relaxed", "estop"):

@@ -4,7 +4,8 @@
  ├── ``StoreError``               the session store cannot do what was asked
  │    ├── ``StoreVersionError``   the store was written by a newer version (schema too new)
  │    ├── ``StoreReadOnlyError``  the store's folder or database cannot be written
- │    └── ``NotFoundError``       no such subject, session or trial
+ │    ├── ``NotFoundError``       no such subject, session or trial
+ │    └── ``SubjectCodeError``    a subject code that is not a pseudonym (also a ``ValueError``)
  ├── ``RecordingError``           a trial file could not be written or read
  │    ├── ``DiskFullError``       the disk (or file-size limit) is full; data up to the last flush is kept
  │    └── ``CorruptFileError``    a data file (trial, C3D, CSV) is unreadable; names the file and the defect
@@ -37,6 +38,10 @@ class NotFoundError(StoreError, KeyError):
 
     def __str__(self) -> str:  # KeyError quotes its message; keep it readable
         return str(self.args[0]) if self.args else ""
+
+
+class SubjectCodeError(StoreError, ValueError):
+    """A subject code that does not match the store's pseudonym pattern."""
 
 
 class RecordingError(InstrumentError):

@@ -78,7 +78,7 @@ def trial_table(trial: TrialFile, subject: dict[str, Any] | None = None) -> Tria
                  "knee_flexion_deg": cond.get("knee_flexion_deg"),
                  "ankle_dorsiflexion_deg": cond.get("ankle_dorsiflexion_deg")}
         return TrialTable(cols, {"kind": name, **{k: v for k, v in fixed.items() if v is not None},
-                                 "subject": _subject_block(subject), "source": str(trial.path),
+                                 "subject": _subject_block(subject), "source": trial.path.name,
                                  "trial_status": trial.status})
     if name == "replica":
         d = trial.devices["torque_sensor"].channels
@@ -94,7 +94,7 @@ def trial_table(trial: TrialFile, subject: dict[str, Any] | None = None) -> Tria
         return TrialTable({"time_s": tt - tt[0], "angle_deg": aa, "torque_Nm": qq},
                           {"kind": "replica", "hip_flexion_deg": 90.0, "ankle_dorsiflexion_deg": 0.0,
                            "sensor_tared_unloaded": bool(cond.get("sensor_tared_unloaded", False)),
-                           "subject": _subject_block(subject), "source": str(trial.path),
+                           "subject": _subject_block(subject), "source": trial.path.name,
                            "trial_status": trial.status})
     if name == "aads":
         return aads_table(trial, subject)
@@ -119,7 +119,7 @@ def aads_table(trial: TrialFile, subject: dict[str, Any] | None = None, model_pa
         cols["spring_torque_Nm"] = res.theory.torque_nm[ok]
         cols["hook_angle_deg"] = res.theory.angle_deg[ok]
     return TrialTable(cols, {"kind": "afo", "jig_model": model.source, "stiffness": res.summary(),
-                             "subject": _subject_block(subject), "source": str(trial.path),
+                             "subject": _subject_block(subject), "source": trial.path.name,
                              "trial_status": trial.status})
 
 

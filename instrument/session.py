@@ -77,7 +77,9 @@ def record_trial(store: SessionStore, session_id: int, protocol: TrialProtocol,
         raise
     trial_id, path = store.begin_trial(session_id, protocol.name, protocol.condition(),
                                        operator=operator, trial_number=trial_number)
-    metadata = settings_snapshot(protocol, {"trial_id": trial_id, "operator": operator, "trial_number": trial_number,
+    # the trial file names the operator by the store's code only (the name stays in the store)
+    metadata = settings_snapshot(protocol, {"trial_id": trial_id, "operator": store.operator_code(operator),
+                                            "trial_number": trial_number,
                                             **(extra_metadata or {})})
     try:
         writer = TrialWriter(path, engine.specs(), metadata)

@@ -12,6 +12,7 @@ from __future__ import annotations
 import fcntl
 import json
 import os
+import re
 import socket
 import sqlite3
 import threading
@@ -24,7 +25,7 @@ from pathlib import Path
 from typing import Any
 
 from . import __version__
-from .errors import NotFoundError, StoreError, StoreReadOnlyError, StoreVersionError
+from .errors import NotFoundError, StoreError, StoreReadOnlyError, StoreVersionError, SubjectCodeError
 from .recording import RecoveryReport, recover_trial_file
 
 #: trial states; ``recording`` only while a writer is alive
@@ -86,8 +87,21 @@ MIGRATIONS: list[str] = [
     );
     ALTER TABLE trials DROP COLUMN file;
     """,
+    # v3: operators are stored once, by name, and referenced everywhere else (trial files,
+    # exports, the trial index) by a code
+    """
+    CREATE TABLE operators (
+        code TEXT PRIMARY KEY,
+        name TEXT NOT NULL UNIQUE,
+        created_at REAL NOT NULL
+    );
+    """,
 ]
 SCHEMA_VERSION = len(MIGRATIONS)
+#: what a subject code must look like unless ``INSTRUMENT_SUBJECT_CODE_PATTERN`` says otherwise:
+#: 1–6 capital letters, an optional hyphen, 1–6 digits (``S01``, ``AFO-12``). A name, an e-mail
+#: address or a national identity number does not match, so it can never enter the store.
+DEFAULT_SUBJECT_CODE_PATTERN = r"[A-Z]{1,6}-?[0-9]{1,6}"
 #: bytes of ballast each writable store keeps, released when the disk fills mid-trial
 RESERVE_BYTES = 1 << 20
 
@@ -279,7 +293,11 @@ class SessionStore:
 
     # ------------------------------------------------------------------ subjects and sessions
     def add_subject(self, subject: Subject) -> int:
-        """Insert or update a subject by code; returns its id."""
+        """Insert or update a subject by code; returns its id.
+
+        :raises SubjectCodeError: the code is not a pseudonym (see :func:`check_subject_code`).
+        """
+        check_subject_code(subject.code)
         d = subject.as_dict()
         cols = [f.name for f in fields(Subject)]
         with self._write() as db:
@@ -299,11 +317,30 @@ class SessionStore:
         rows = self._db.execute("SELECT * FROM subjects ORDER BY code").fetchall()
         return [Subject(**{f.name: r[f.name] for f in fields(Subject)}) for r in rows]
 
+    def operator_code(self, name: str | None) -> str | None:
+        """The code that stands for operator ``name`` outside the store (made on first use: OP01, OP02 …).
+        A name that already is one of the store's codes is returned as it is."""
+        if not name:
+            return None
+        row = self._db.execute("SELECT code FROM operators WHERE name=? OR code=?", (name, name)).fetchone()
+        if row is not None:
+            return str(row[0])
+        with self._write() as db:
+            n = int(db.execute("SELECT COUNT(*) FROM operators").fetchone()[0])
+            code = f"OP{n + 1:02d}"
+            db.execute("INSERT INTO operators (code, name, created_at) VALUES (?, ?, ?)", (code, name, time.time()))
+        return code
+
+    def operators(self) -> dict[str, str]:
+        """Operator code → name (the only place names are kept)."""
+        return {r["code"]: r["name"] for r in self._db.execute("SELECT code, name FROM operators ORDER BY code")}
+
     def new_session(self, subject_code: str, operator: str | None = None, notes: str | None = None) -> int:
-        """Start a session for an existing subject; returns the session id."""
+        """Start a session for an existing subject; returns the session id (the operator kept by code)."""
         row = self._db.execute("SELECT id FROM subjects WHERE code=?", (subject_code,)).fetchone()
         if row is None:
             raise NotFoundError(f"no subject {subject_code!r} in {self.root}; add it first")
+        operator = self.operator_code(operator)
         with self._write() as db:
             cur = db.execute("INSERT INTO sessions (subject_id, started_at, operator, notes) VALUES (?, ?, ?, ?)",
                              (row[0], time.time(), operator, notes))
@@ -325,6 +362,7 @@ class SessionStore:
             path.parent.mkdir(parents=True, exist_ok=True)
         except OSError as err:
             raise StoreReadOnlyError(f"{self.root}: cannot create {path.parent}: {err}") from err
+        operator = self.operator_code(operator)
         lock = TrialLock(path)  # held until finish_trial (or this process ends): recovery leaves the file alone
         with self._write() as db:
             cur = db.execute(
@@ -493,6 +531,23 @@ class TrialLock:
     @staticmethod
     def remove_stale(data_path: Path) -> None:
         TrialLock.path_for(data_path).unlink(missing_ok=True)
+
+
+def subject_code_pattern() -> str:
+    """The pseudonym pattern in force (``INSTRUMENT_SUBJECT_CODE_PATTERN`` or the default)."""
+    return os.environ.get("INSTRUMENT_SUBJECT_CODE_PATTERN") or DEFAULT_SUBJECT_CODE_PATTERN
+
+
+def check_subject_code(code: str) -> None:
+    """Refuse a subject code that is not a pseudonym.
+
+    :raises SubjectCodeError: names the pattern and how to change it.
+    """
+    pattern = subject_code_pattern()
+    if not isinstance(code, str) or re.fullmatch(pattern, code) is None:
+        raise SubjectCodeError(
+            f"subject code {code!r} is not a pseudonym: codes match {pattern} (e.g. S01); names, e-mail addresses "
+            "and identity numbers are never stored (set INSTRUMENT_SUBJECT_CODE_PATTERN to change the pattern)")
 
 
 def _connect_read_only(db: Path) -> sqlite3.Connection:

@@ -22,7 +22,7 @@ def test_store_written_by_version_1_opens_in_the_current_version(tmp_path: Path)
     old._db.commit()
     old.close()
     new = SessionStore(tmp_path)
-    assert new.schema_version == SCHEMA_VERSION == 2
+    assert new.schema_version == SCHEMA_VERSION == 3  # v2 files table, v3 operators
     (trial,) = new.trials()
     assert trial.status == "accepted" and trial.path == tmp_path / "trials/session-0001/knee-1.h5"
     assert new.subject("P07").mass_kg == 61.5
@@ -34,7 +34,7 @@ def test_store_from_a_newer_version_is_refused_clearly(tmp_path: Path) -> None:
     db.execute(f"PRAGMA user_version = {SCHEMA_VERSION + 3}")
     db.commit()
     db.close()
-    with pytest.raises(StoreVersionError, match=r"newer version .* understands up to 2"):
+    with pytest.raises(StoreVersionError, match=rf"newer version .* understands up to {SCHEMA_VERSION}"):
         SessionStore(tmp_path)
 
 
