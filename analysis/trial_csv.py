@@ -12,6 +12,8 @@ replica), the fixed joint angles ``hip_flexion_deg``, ``knee_flexion_deg``,
 from __future__ import annotations
 
 import json
+import math
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -22,6 +24,17 @@ from .errors import DataFileError
 
 REQUIRED = ("time_s", "angle_deg", "torque_Nm")
 KINDS = ("afo", "knee", "ankle", "replica")
+#: the most rows a trial CSV may have (33 min at 1 kHz); larger files are refused before loading
+MAX_ROWS = 2_000_000
+#: allowed range of each sidecar number: fixed joint angles (deg) and subject anthropometrics (SI)
+SIDECAR_RANGES: dict[str, tuple[float, float]] = {
+    "hip_flexion_deg": (-30.0, 130.0), "knee_flexion_deg": (-10.0, 150.0), "ankle_dorsiflexion_deg": (-60.0, 45.0),
+}
+SUBJECT_RANGES: dict[str, tuple[float, float]] = {
+    "mass_kg": (20.0, 250.0), "height_m": (1.0, 2.3), "leg_length_m": (0.5, 1.3), "thigh_length_m": (0.25, 0.7),
+    "shank_length_m": (0.25, 0.6), "hip_width_m": (0.15, 0.5), "foot_length_m": (0.12, 0.35),
+    "thigh_circumference_m": (0.25, 1.2), "shank_circumference_m": (0.15, 0.8),
+}
 
 
 @dataclass
@@ -60,32 +73,92 @@ def write_trial_csv(path: str | Path, table: TrialTable) -> None:
 def read_trial_csv(path: str | Path) -> TrialTable:
     """Read a trial CSV and its sidecar (if present).
 
-    :raises DataFileError: missing file, missing required column, non-numeric or empty data, bad sidecar.
+    Cells of the data columns may be empty or NaN (a dropped sample); time may not: it must be
+    finite and strictly increasing.
+
+    :raises DataFileError: missing or oversized file, not UTF-8, missing required column,
+        non-numeric or empty data, time not finite or not increasing, bad sidecar (names the
+        field and its allowed range).
     """
     path = Path(path)
     if not path.exists():
         raise DataFileError(path, "file does not exist")
-    with path.open() as fh:
-        header = fh.readline().strip()
-    names = [h.strip() for h in header.split(",")]
-    missing = [r for r in REQUIRED if r not in names]
-    if missing:
-        raise DataFileError(path, f"missing column(s) {missing}; header is {names}")
+    rows = _count_lines(path) - 1
+    if rows > MAX_ROWS:
+        raise DataFileError(path, f"{rows} data rows; a trial CSV has at most {MAX_ROWS} (split or resample it)")
     try:
-        data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+        with path.open(encoding="utf-8") as fh:
+            header = fh.readline().strip()
+        names = [h.strip() for h in header.split(",")]
+        missing = [r for r in REQUIRED if r not in names]
+        if missing:
+            raise DataFileError(path, f"missing column(s) {missing}; header is {names}")
+        with warnings.catch_warnings():  # "input contained no data" is our own error below
+            warnings.simplefilter("ignore", UserWarning)
+            data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2, encoding="utf-8",
+                              converters=lambda text: float(text) if text.strip() else np.nan)
+    except UnicodeDecodeError as err:
+        raise DataFileError(path, f"not UTF-8 text (byte {err.start}): is it a trial CSV?") from err
     except ValueError as err:
-        raise DataFileError(path, f"non-numeric or ragged data: {err}") from err
+        raise DataFileError(path, f"non-numeric or ragged data: {str(err).splitlines()[0]}") from err
     if data.shape[0] == 0:
         raise DataFileError(path, "no data rows")
     if data.shape[1] != len(names):
         raise DataFileError(path, f"{data.shape[1]} columns of data but {len(names)} names in the header")
+    time = data[:, names.index("time_s")]
+    bad = np.flatnonzero(~np.isfinite(time))
+    if bad.size:
+        raise DataFileError(path, f"time_s is not finite in row {bad[0] + 2} ({time[bad[0]]}); every row needs a time")
+    steps = np.diff(time)
+    if (steps <= 0).any():
+        k = int(np.flatnonzero(steps <= 0)[0])
+        raise DataFileError(path, f"time_s must increase: row {k + 3} ({time[k + 1]:g} s) does not follow row "
+                                  f"{k + 2} ({time[k]:g} s) (duplicated or out-of-order time)")
     sidecar: dict[str, Any] = {}
     sp = sidecar_path(path)
     if sp.exists():
         try:
-            sidecar = json.loads(sp.read_text())
-        except json.JSONDecodeError as err:
+            sidecar = json.loads(sp.read_text(encoding="utf-8"))
+        except (json.JSONDecodeError, UnicodeDecodeError) as err:
             raise DataFileError(sp, f"sidecar is not valid JSON: {err}") from err
-        if "kind" in sidecar and sidecar["kind"] not in KINDS:
-            raise DataFileError(sp, f"kind {sidecar['kind']!r} is not one of {KINDS}")
+        validate_sidecar(sidecar, sp)
     return TrialTable({n: data[:, i] for i, n in enumerate(names)}, sidecar)
+
+
+def validate_sidecar(sidecar: Any, path: str | Path) -> None:
+    """Check a sidecar's schema: an object; ``kind`` one of :data:`KINDS`; fixed angles and the
+    subject's numbers finite and inside :data:`SIDECAR_RANGES` / :data:`SUBJECT_RANGES`.
+
+    :raises DataFileError: names the field, its value and the allowed range.
+    """
+    if not isinstance(sidecar, dict):
+        raise DataFileError(path, f"sidecar must be a JSON object, not a {type(sidecar).__name__}")
+    if "kind" in sidecar and sidecar["kind"] not in KINDS:
+        raise DataFileError(path, f"kind {sidecar['kind']!r} is not one of {KINDS}")
+    for key, (lo, hi) in SIDECAR_RANGES.items():
+        if sidecar.get(key) is not None:
+            _check_number(path, key, sidecar[key], lo, hi, "°")
+    subject = sidecar.get("subject")
+    if subject is None:
+        return
+    if not isinstance(subject, dict):
+        raise DataFileError(path, f"subject must be a JSON object, not a {type(subject).__name__}")
+    for key, (lo, hi) in SUBJECT_RANGES.items():
+        if subject.get(key) is not None:
+            _check_number(path, f"subject.{key}", subject[key], lo, hi, key.rsplit("_", 1)[-1])
+
+
+def _check_number(path: str | Path, field_name: str, value: Any, lo: float, hi: float, unit: str) -> None:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) \
+            or not lo <= value <= hi:
+        raise DataFileError(path, f"{field_name} = {value!r} is outside the allowed range {lo:g}..{hi:g} {unit}")
+
+
+def _count_lines(path: Path) -> int:
+    """Lines in ``path``, counted in 1 MiB blocks (bounded memory)."""
+    lines, last = 0, b"\n"
+    with path.open("rb") as fh:
+        while block := fh.read(1 << 20):
+            lines += block.count(b"\n")
+            last = block[-1:]
+    return lines + (last != b"\n")

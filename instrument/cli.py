@@ -125,7 +125,9 @@ def _tables(specs: list[str], store_path: Path | None) -> tuple[list, list[dict]
             store = store or _store(store_path, read_only=True)
             rec = store.trial(int(spec))
             trial = read_trial(rec.path)
-            tables.append(trial_table(trial, store.subject(rec.subject_code).as_dict()))
+            table = trial_table(trial, store.subject(rec.subject_code).as_dict())
+            table.sidecar["trial_status"] = rec.status  # the index's verdict (accepted, rejected, ...)
+            tables.append(table)
             metas.append(trial.metadata)
         elif path.suffix.lower() in (".h5", ".hdf5"):
             trial = read_trial(path)
@@ -154,10 +156,17 @@ def cmd_analyze_replica(args: argparse.Namespace) -> int:
 
 
 def cmd_analyze_pmp(args: argparse.Namespace) -> int:
+    from analysis.errors import DataFileError
     from analysis.pmp.report import analyse, subject_from, text, to_json, trial_from_table, write_plots
 
     tables, _ = _tables(args.trials, args.store)
-    subject_data = json.loads(args.subject.read_text()) if args.subject else (tables[0].sidecar.get("subject") or {})
+    if args.subject:
+        try:
+            subject_data = json.loads(args.subject.read_text(encoding="utf-8"))
+        except (OSError, ValueError) as err:
+            raise DataFileError(args.subject, f"subject JSON cannot be read: {err}") from err
+    else:
+        subject_data = tables[0].sidecar.get("subject") or {}
     report = analyse([trial_from_table(t) for t in tables], subject_from(subject_data), args.intervals)
     files = write_plots(report, args.out)
     if args.json:

@@ -9,35 +9,76 @@ from typing import Any
 
 import numpy as np
 
-from ..trial_csv import TrialTable
+from ..trial_csv import SUBJECT_RANGES, TrialTable
 from ..errors import InputError
 from .estimator import PmpResult, PmpTrial, Subject, estimate, identifiability
 from .muscles import COMPLIANT, LegMuscles, scale_for_subject
 from .stiffness import achilles_stiffness_kn_per_m, muscle_stiffness_n_per_m, tendon_stiffness_n_per_m
 from .verify import forward_dynamics
 
+#: the least sweep (deg) a trial must cover to fit passive moments
+MIN_SWEEP_DEG = 5.0
+
 
 def trial_from_table(table: TrialTable) -> PmpTrial:
-    """A knee or ankle trial CSV (with its sidecar) as an estimator trial; the CSV torque is the dynamometer's u."""
+    """A knee or ankle trial CSV (with its sidecar) as an estimator trial; the CSV torque is the dynamometer's u.
+
+    Rows with a missing (NaN/inf) angle or torque are left out and counted in the trial's name; a
+    rejected or interrupted trial, a missing fixed joint angle or a sweep of under 5° is refused.
+
+    :raises InputError: one line naming what is wrong.
+    """
     side = table.sidecar
     kind = side.get("kind")
     if kind not in ("knee", "ankle"):
         raise InputError(f"passive parameters come from knee or ankle trials, not {kind!r}")
+    status = side.get("trial_status")
+    if status in ("rejected", "interrupted", "failed"):
+        raise InputError(f"a {status} trial is not fitted (the operator or the recording ended it); "
+                         "repeat it, or export it as CSV and fit it knowingly")
+    required = "hip_flexion_deg" if kind == "knee" else "knee_flexion_deg"
+    if side.get(required) is None:
+        raise InputError(f"{kind} trial without {required} in its sidecar: the fixed joint angle is needed")
     fixed = {"hip": math.radians(float(side.get("hip_flexion_deg", 90.0)))}
     if kind == "knee":
         fixed["ankle"] = math.radians(float(side.get("ankle_dorsiflexion_deg") or 0.0))
     else:
-        fixed["knee"] = math.radians(float(side.get("knee_flexion_deg") or 0.0))
-    t = table.time_s
-    q = np.deg2rad(table.angle_deg)
-    v = np.deg2rad(table.columns["velocity_deg_s"]) if "velocity_deg_s" in table.columns else np.gradient(q, t)
+        fixed["knee"] = math.radians(float(side[required]))
+    ok = np.isfinite(table.angle_deg) & np.isfinite(table.torque_nm) & np.isfinite(table.time_s)
+    if ok.sum() < 10:
+        raise InputError(f"{kind} trial has {int(ok.sum())} rows with a finite angle and torque; at least 10 needed")
+    t = table.time_s[ok]
+    q = np.deg2rad(table.angle_deg[ok])
+    sweep_deg = float(np.ptp(table.angle_deg[ok]))
+    if sweep_deg < MIN_SWEEP_DEG:
+        raise InputError(f"{kind} trial sweeps {sweep_deg:.2f}° (constant angle?): at least {MIN_SWEEP_DEG:g}° "
+                         "is needed to fit passive moments")
+    v = (np.deg2rad(table.columns["velocity_deg_s"][ok]) if "velocity_deg_s" in table.columns
+         and np.isfinite(table.columns["velocity_deg_s"][ok]).all() else np.gradient(q, t))
     name = f"{kind} " + (f"hip {side.get('hip_flexion_deg')}°" if kind == "knee" else f"knee {side.get('knee_flexion_deg')}°")
-    return PmpTrial(kind, fixed, t, q, v, table.torque_nm, name)
+    dropped = int((~ok).sum())
+    if dropped:
+        name += f" ({dropped} rows without angle or torque left out)"
+    return PmpTrial(kind, fixed, t, q, v, table.torque_nm[ok], name)
 
 
 def subject_from(data: dict[str, Any]) -> Subject:
-    return Subject(float(data.get("mass_kg") or 75.0), float(data.get("shank_length_m") or 0.42),
-                   float(data.get("foot_length_m") or 0.26))
+    """The subject's mass (kg), shank and foot length (m); each must be given and physiological.
+
+    :raises InputError: names the missing or out-of-range field and the allowed range.
+    """
+    values = {}
+    for key in ("mass_kg", "shank_length_m", "foot_length_m"):
+        lo, hi = SUBJECT_RANGES[key]
+        value = data.get(key) if isinstance(data, dict) else None
+        if value is None:
+            raise InputError(f"subject {key} is missing: enter it for the subject (store) or in --subject JSON "
+                             f"({lo:g}..{hi:g})")
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) \
+                or not lo <= value <= hi:
+            raise InputError(f"subject {key} = {value!r} is outside the allowed range {lo:g}..{hi:g}")
+        values[key] = float(value)
+    return Subject(values["mass_kg"], values["shank_length_m"], values["foot_length_m"])
 
 
 def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24) -> dict[str, Any]:

@@ -1,0 +1,124 @@
+"""Malformed input gets one typed line naming the file, the field and the allowed range; nothing
+already recorded is altered. Property-based where the input space is wide (sidecars, CSV bytes)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from analysis.errors import DataFileError, InputError
+from analysis.pmp.report import subject_from, trial_from_table
+from analysis.trial_csv import MAX_ROWS, TrialTable, read_trial_csv, write_trial_csv
+from instrument.cli import main as cli_main
+
+
+def _knee_csv(path: Path, **sidecar_overrides) -> Path:  # noqa: ANN003
+    t = np.arange(0.0, 10.0, 0.01)
+    table = TrialTable({"time_s": t, "angle_deg": 5.0 * t, "torque_Nm": 0.1 * t},
+                       {"kind": "knee", "hip_flexion_deg": 90.0,
+                        "subject": {"mass_kg": 75.0, "shank_length_m": 0.42, "foot_length_m": 0.26}})
+    table.sidecar.update(sidecar_overrides)
+    write_trial_csv(path, table)
+    return path
+
+
+json_values = st.recursive(st.none() | st.booleans() | st.floats() | st.integers() | st.text(max_size=8),
+                           lambda inner: st.lists(inner, max_size=3) | st.dictionaries(st.text(max_size=8), inner,
+                                                                                        max_size=3), max_leaves=8)
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(st.dictionaries(st.sampled_from(["kind", "hip_flexion_deg", "knee_flexion_deg", "subject", "x"]), json_values)
+       | json_values)
+def test_any_sidecar_is_read_or_refused_with_a_data_file_error(tmp_path: Path, sidecar) -> None:  # noqa: ANN001
+    path = _knee_csv(tmp_path / "t.csv")
+    path.with_suffix(".json").write_text(json.dumps(sidecar, allow_nan=True))
+    try:
+        table = read_trial_csv(path)
+    except DataFileError as err:
+        assert str(path.with_suffix(".json")) in str(err) and "\n" not in str(err)
+        return
+    try:  # what the reader lets through, the fit's own checks take or refuse with one line
+        trial_from_table(table)
+        subject_from(table.sidecar.get("subject") or {})
+    except InputError as err:
+        assert "\n" not in str(err)
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(st.binary(max_size=400))
+def test_any_bytes_as_a_csv_are_read_or_refused_with_a_data_file_error(tmp_path: Path, blob: bytes) -> None:
+    path = tmp_path / "t.csv"
+    path.write_bytes(b"time_s,angle_deg,torque_Nm\n" + blob)
+    try:
+        table = read_trial_csv(path)
+    except DataFileError as err:
+        assert str(path) in str(err)
+        return
+    assert np.all(np.diff(table.time_s) > 0) and np.isfinite(table.time_s).all()
+
+
+@pytest.mark.parametrize("mutate, words", [
+    (lambda p: p.write_bytes(p.read_bytes()[:40] + b"\xff\xfe\x00bad" + p.read_bytes()[40:]), "not UTF-8"),
+    (lambda p: p.write_text(p.read_text().replace("\n0.5,", "\nnan,", 1)), "time_s is not finite"),
+    (lambda p: p.write_text(p.read_text().replace("\n0.5,", "\n0.2,", 1)), "time_s must increase"),
+    (lambda p: p.with_suffix(".json").write_text("[1, 2]"), "must be a JSON object"),
+    (lambda p: p.with_suffix(".json").write_text('{"kind": "knee", "subject": {"mass_kg": "heavy"}}'),
+     "subject.mass_kg"),
+    (lambda p: p.with_suffix(".json").write_text('{"kind": "knee", "hip_flexion_deg": 400}'), "hip_flexion_deg"),
+])
+def test_malformed_trial_csvs_are_one_line_data_errors(tmp_path: Path, capsys, mutate, words) -> None:  # noqa: ANN001
+    path = _knee_csv(tmp_path / "t.csv")
+    mutate(path)
+    before = path.read_bytes()
+    assert cli_main(["analyze", "pmp", str(path), "--out", str(tmp_path / "out")]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("error:") and words in err[0], err
+    assert path.read_bytes() == before
+
+
+@pytest.mark.parametrize("overrides, words", [
+    ({"subject": {"mass_kg": -70.0, "shank_length_m": 0.42, "foot_length_m": 0.26}}, "mass_kg"),
+    ({"subject": {"mass_kg": 0.0, "shank_length_m": 0.42, "foot_length_m": 0.26}}, "mass_kg"),
+    ({"subject": {"shank_length_m": 0.42, "foot_length_m": 0.26}}, "mass_kg is missing"),
+    ({"hip_flexion_deg": None}, "hip_flexion_deg"),
+    ({"trial_status": "rejected"}, "rejected trial"),
+])
+def test_implausible_or_missing_trial_facts_are_refused_not_defaulted(tmp_path: Path, capsys, overrides,
+                                                                       words) -> None:  # noqa: ANN001
+    path = _knee_csv(tmp_path / "t.csv", **overrides)
+    assert cli_main(["analyze", "pmp", str(path), "--out", str(tmp_path / "out")]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and words in err[0], err
+
+
+def test_a_constant_angle_is_refused(tmp_path: Path) -> None:
+    t = np.arange(0.0, 5.0, 0.01)
+    table = TrialTable({"time_s": t, "angle_deg": np.full(t.size, 30.0), "torque_Nm": np.zeros(t.size)},
+                       {"kind": "knee", "hip_flexion_deg": 90.0})
+    with pytest.raises(InputError, match="constant angle"):
+        trial_from_table(table)
+
+
+def test_nan_cells_are_left_out_and_reported(tmp_path: Path) -> None:
+    path = _knee_csv(tmp_path / "t.csv")
+    lines = path.read_text().splitlines()
+    lines[5] = lines[5].split(",")[0] + ",nan,0.0"
+    lines[9] = lines[9].split(",")[0] + ",4.0,"
+    path.write_text("\n".join(lines) + "\n")
+    trial = trial_from_table(read_trial_csv(path))
+    assert trial.time_s.size == 1000 - 2 and "2 rows without angle or torque left out" in trial.name
+
+
+def test_an_oversized_csv_is_refused_before_loading(tmp_path: Path) -> None:
+    path = tmp_path / "big.csv"
+    with path.open("w") as fh:
+        fh.write("time_s,angle_deg,torque_Nm\n")
+        fh.write("0,0,0\n" * (MAX_ROWS + 1))
+    with pytest.raises(DataFileError, match="data rows"):
+        read_trial_csv(path)
