@@ -11,6 +11,7 @@ transducer origin in that frame, z ≤ 0 (the C3D type-2 convention, which ezc3d
 
 from __future__ import annotations
 
+import struct
 from pathlib import Path
 
 import numpy as np
@@ -28,6 +29,24 @@ def _scale(unit: str, what: str, path: Path) -> float:
     raise DataFileError(path, f"unknown {what} unit {unit!r}")
 
 
+def _declared_frames(path: Path) -> int | None:
+    """Frames the C3D header declares (words 4–5), read from the raw bytes: ezc3d shortens its own
+    header to what a truncated file holds. None when the header cannot be decoded."""
+    try:
+        with path.open("rb") as fh:
+            head = fh.read(512)
+            param_block = head[0] if head else 0
+            fh.seek(max(param_block - 1, 0) * 512)
+            param_head = fh.read(4)
+    except OSError:
+        return None
+    if len(head) < 10 or len(param_head) < 4:
+        return None
+    order = ">" if param_head[3] == 86 else "<"  # 84 Intel, 85 DEC (little-endian words), 86 MIPS
+    first, last = struct.unpack(order + "HH", head[6:10])
+    return last - first + 1 if last >= first else None
+
+
 def read_c3d(path: str | Path, *, plate: int = 0, require_plate: bool = True) -> MotionTrial:
     """Read markers and force platform ``plate`` of a C3D file.
 
@@ -42,6 +61,10 @@ def read_c3d(path: str | Path, *, plate: int = 0, require_plate: bool = True) ->
         c = ezc3d.c3d(str(path), extract_forceplat_data=True)
     except Exception as err:  # noqa: BLE001 - ezc3d raises bare RuntimeError/ValueError/IOError
         raise DataFileError(path, f"not a readable C3D file: {err}") from err
+    declared = _declared_frames(path)
+    held = int(np.asarray(c["data"]["points"]).shape[-1])
+    if declared is not None and held < declared:
+        raise DataFileError(path, f"truncated: the header declares {declared} frames, the file holds {held}")
     params = c["parameters"]
     try:
         rate = float(params["POINT"]["RATE"]["value"][0])

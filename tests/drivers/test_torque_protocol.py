@@ -91,3 +91,17 @@ def test_exception_response_is_typed() -> None:
             sensor.read_torque_nm()
         assert sensor.stats.malformed_frames == 1
         sensor.close()
+
+
+def test_a_valid_crc_reply_with_the_wrong_register_count_is_a_counted_bad_frame() -> None:
+    pairs = [(rtu("010300210002"), rtu("010304" + "00000000")),
+             (rtu("010300000002"), rtu("010302" + "3fc0")),            # one register where two were asked
+             (rtu("010300000002"), rtu("010304" + "3fc00000"))]        # the next poll is fine
+    with expected_protocol(pairs) as peer:
+        sensor = open_torque_sensor(f"modbus-rtu+socket://127.0.0.1:{peer.port}?timeout=0.1")
+        sensor.open()
+        with pytest.raises(DeviceTimeoutError):
+            sensor.read_torque_nm()
+        assert sensor.stats.malformed_frames == 1
+        assert sensor.read_torque_nm() == 1.5  # the driver (and its link) carry on
+        sensor.close()

@@ -50,6 +50,10 @@ def test_c3d_bad_inputs(tmp_path: Path) -> None:
     (tmp_path / "cut.c3d").write_bytes(good.read_bytes()[:1500])
     with pytest.raises(DataFileError, match="cut.c3d"):
         read_c3d(tmp_path / "cut.c3d")
+    blob = good.read_bytes()  # half a file reads as a shorter, plausible trial unless the header is checked
+    (tmp_path / "half.c3d").write_bytes(blob[:len(blob) // 2])
+    with pytest.raises(DataFileError, match="truncated: the header declares"):
+        read_c3d(tmp_path / "half.c3d")
     import ezc3d
     c = ezc3d.c3d()
     c["parameters"]["POINT"]["RATE"]["value"] = [100.0]
