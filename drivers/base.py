@@ -27,6 +27,7 @@ from .clock import monotonic_s
 from .errors import (
     ConnectionLostError,
     CounterResyncError,
+    DeviceOperationError,
     DeviceInitializationError,
     DeviceTimeoutError,
     DriverError,
@@ -250,18 +251,26 @@ class StreamingDevice(ABC):
                 log.exception("%s: unexpected reader error", self.name)
                 self._lost(ConnectionLostError(f"{self.name}: unexpected reader error: {err!r}"))
                 continue
-            now = monotonic_s()
-            if block is None or len(block) == 0:
-                if not self._silent_reported and now - self._last_data_s > self.silence_timeout_s:
-                    self._silent_reported = True
-                    self.stats.timeouts += 1
-                    self._events.put(DeviceTimeoutError(
-                        f"{self.name}: silent for {now - self._last_data_s:.2f} s "
-                        f"(after counter {self.stats.last_counter})"))
-                continue
-            self._last_data_s = now
-            self._silent_reported = False
-            self._deliver(block)
+            try:
+                self._handle_block(block)
+            except Exception as err:  # noqa: BLE001 - accounting must not kill the reader either
+                log.exception("%s: unexpected error handling a block", self.name)
+                self._events.put(DeviceOperationError(f"{self.name}: a block could not be handled: {err!r}"))
+
+    def _handle_block(self, block: SampleBlock | None) -> None:
+        """Silence bookkeeping, then account for and queue a non-empty block."""
+        now = monotonic_s()
+        if block is None or len(block) == 0:
+            if not self._silent_reported and now - self._last_data_s > self.silence_timeout_s:
+                self._silent_reported = True
+                self.stats.timeouts += 1
+                self._events.put(DeviceTimeoutError(
+                    f"{self.name}: silent for {now - self._last_data_s:.2f} s "
+                    f"(after counter {self.stats.last_counter})"))
+            return
+        self._last_data_s = now
+        self._silent_reported = False
+        self._deliver(block)
 
     def _deliver(self, block: SampleBlock) -> None:
         """Account for ``block`` and queue it for the consumer (also used by hooks that drain on stop)."""
@@ -330,8 +339,11 @@ class StreamingDevice(ABC):
             self.stats.reconnects += 1
             self._last_data_s = monotonic_s()
             log.info("%s: reconnected", self.name)
-        except DriverError as err:
+        except Exception as err:  # noqa: BLE001 - a failed reconnect is retried, never the thread's end
             log.debug("%s: reconnect failed: %s", self.name, err)
             with self._lock:
-                self._close_internal()
+                try:
+                    self._close_internal()
+                except Exception:  # noqa: BLE001
+                    pass
                 self._connected = False
