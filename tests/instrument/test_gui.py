@@ -150,3 +150,24 @@ def test_replica_trial_and_closing_mid_trial_keeps_the_data(qtbot, window: MainW
     rec = window.store.trial(snap.outcome.trial_id)
     assert rec.status == "interrupted"
     assert read_trial(rec.path).devices["dynamometer"].samples > 50
+
+
+def test_an_unconfirmed_emergency_stop_raises_a_modal_alarm_and_blocks_accept(qtbot, window: MainWindow,
+                                                                              tmp_path: Path) -> None:
+    window.protocol_box.setCurrentIndex(2)
+    window.confirm_checklist()
+    qtbot.mouseClick(window.start_button, QtCore.Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: window.runner is not None and window.runner.sweep_started.is_set(), timeout=20000)
+    lab = window.source.lab
+    lab.dynamometer.lose_estop_frames = 1000  # no e-stop frame reaches the device
+    qtbot.keyClick(window, QtCore.Qt.Key.Key_Escape)
+    qtbot.waitUntil(lambda: window.estop_alarm is not None and window.estop_alarm.isVisible(), timeout=10000)
+    assert window.estop_alarm.isModal() and "NOT CONFIRMED" in window.estop_alarm.windowTitle()
+    run_to_end(qtbot, window)
+    assert lab.dynamometer.state != State.MOVING  # halted by command instead
+    assert not window.accept_button.isEnabled() and window.repeat_button.isEnabled()
+    rec = window.store.trial(window.runner.snapshot().outcome.trial_id)
+    assert rec.status == "interrupted" and "did not confirm" in (rec.reason or "")
+    shot = tmp_path / "estop-alarm.png"
+    window.estop_alarm.grab().save(str(shot))
+    window.estop_alarm.accept()
