@@ -4,12 +4,17 @@
 
 Needs OpenSim (``pip install 'afo-gait-instrument[opensim]'``). For each muscle, the coordinates
 it crosses are found from its moment arms; its length is sampled on a grid over the seated
-ranges (hip −10…100°, knee 0…110° flexion, ankle −40…30° dorsiflexion) and fitted by least
-squares with a polynomial of total degree ``--degree`` in those angles (radians). Moment arms are
-the polynomial's derivatives, r = −∂L/∂q, as in De Groote et al. (2016) and Falisse et al.
-(2019). The fit is checked on a second grid, offset by half a step, against OpenSim's own
-lengths and ``computeMomentArm``; the errors (mm) go into the JSON with the muscles' generic
-parameters (maximum isometric force, optimal fibre length, tendon slack length, pennation).
+ranges (hip −10…100°, knee 0…105° flexion, ankle −40…30° dorsiflexion) and fitted by weighted
+least squares with a polynomial of total degree ``--degree`` in those angles (radians), to the
+lengths, and each moment arm from ``computeMomentArm`` by its own polynomial on the same basis:
+OpenSim's moment arm is not −∂L/∂q of its ``getLength`` where the coupled knee or a wrapping
+surface kinks the path (the gastrocnemius near full extension: up to 17 mm apart), and OpenSim's
+joint moment is tendon force × ``computeMomentArm``, which the model reproduces. The fit is
+checked on a second grid, offset by half a step, against OpenSim's own lengths and
+``computeMomentArm``; the errors (mm) go into the JSON with the muscles' generic parameters as
+the model states them once its muscles are ``DeGrooteFregly2016Muscle`` (maximum isometric
+force, optimal fibre length, tendon slack length, pennation, passive fibre and tendon strain)
+and the model's own segment lengths between joint centres (the scaling reference).
 """
 
 from __future__ import annotations
@@ -23,8 +28,13 @@ from pathlib import Path
 import numpy as np
 
 MUSCLES = ["bflh", "bfsh", "gaslat", "gasmed", "soleus", "semimem", "semiten", "vasint", "vaslat", "vasmed", "recfem"]
-COORDS = {"hip": ("hip_flexion_r", -10.0, 100.0, 12), "knee": ("knee_angle_r", 0.0, 110.0, 12),
-          "ankle": ("ankle_angle_r", -40.0, 30.0, 9)}
+COORDS = {"hip": ("hip_flexion_r", -10.0, 100.0, 12), "knee": ("knee_angle_r", 0.0, 105.0, 22),
+          "ankle": ("ankle_angle_r", -40.0, 30.0, 11)}
+
+
+
+#: a one-joint polynomial is cheap, and the patella-coupled vasti need it
+SINGLE_JOINT_DEGREE = 10
 
 
 def exponents(n_vars: int, degree: int) -> list[tuple[int, ...]]:
@@ -33,6 +43,33 @@ def exponents(n_vars: int, degree: int) -> list[tuple[int, ...]]:
 
 def design(q: np.ndarray, exps: list[tuple[int, ...]]) -> np.ndarray:
     return np.column_stack([np.prod(q ** np.array(e), axis=1) for e in exps])
+
+
+def derivative_design(q: np.ndarray, exps: list[tuple[int, ...]], j: int) -> np.ndarray:
+    """∂/∂q_j of every column of :func:`design`."""
+    cols = []
+    for e in exps:
+        if e[j] == 0:
+            cols.append(np.zeros(q.shape[0]))
+            continue
+        e2 = np.array(e)
+        e2[j] -= 1
+        cols.append(e[j] * np.prod(q ** e2, axis=1))
+    return np.column_stack(cols)
+
+
+def segment_lengths(model: object, state: object) -> dict[str, float]:
+    """The model's thigh (hip to knee centre) and shank (knee to ankle centre) lengths (m)."""
+    joints = model.getJointSet()  # type: ignore[attr-defined]
+    model.realizePosition(state)  # type: ignore[attr-defined]
+
+    def at(frame: object) -> np.ndarray:
+        p = frame.getPositionInGround(state)  # type: ignore[attr-defined]
+        return np.array([p.get(i) for i in range(3)])
+
+    knee, ankle, hip = joints.get("walker_knee_r"), joints.get("ankle_r"), joints.get("hip_r")
+    return {"shank_length_m": float(np.linalg.norm(at(knee.getChildFrame()) - at(ankle.getParentFrame()))),
+            "thigh_length_m": float(np.linalg.norm(at(hip.getChildFrame()) - at(knee.getParentFrame())))}
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -45,6 +82,7 @@ def main(argv: list[str] | None = None) -> int:
 
     osim.Logger.setLevelString("error")
     model = osim.Model(str(args.model))
+    osim.DeGrooteFregly2016Muscle.replaceMuscles(model)
     state = model.initSystem()
     cs = model.getCoordinateSet()
     coords = {k: cs.get(v[0]) for k, v in COORDS.items()}
@@ -79,39 +117,41 @@ def main(argv: list[str] | None = None) -> int:
     test_l, test_r = sample(test_q)
     out = {"source": args.model.name, "degree": args.degree, "coordinates": {k: v[0] for k, v in COORDS.items()},
            "ranges_deg": {k: [v[1], v[2]] for k, v in COORDS.items()}, "angles": "radians; knee flexion and ankle "
-           "dorsiflexion positive, as the .osim", "script": "tools/fit_muscle_paths.py", "muscles": {}}
+           "dorsiflexion positive, as the .osim", "script": "tools/fit_muscle_paths.py",
+           "segments": segment_lengths(model, state), "muscles": {}}
     for m in MUSCLES:
         spans = [k for k in COORDS if np.max(np.abs(train_r[m][k])) > 1e-3]  # a moment arm over 1 mm somewhere
         idx = [list(COORDS).index(k) for k in spans]
-        exps = exponents(len(spans), args.degree)
-        coef, *_ = np.linalg.lstsq(design(train_q[:, idx], exps), train_l[m], rcond=None)
+        exps = exponents(len(spans), args.degree if len(spans) > 1 else SINGLE_JOINT_DEGREE)
+        basis = design(train_q[:, idx], exps)
+        coef, *_ = np.linalg.lstsq(basis, train_l[m], rcond=None)
+        # OpenSim's moment arm (computeMomentArm) is not −∂L/∂q of its own getLength where a
+        # coupled or wrapped path kinks it: each is fitted on its own, as OpenSim uses each
+        arm_coef = {k: np.linalg.lstsq(basis, train_r[m][k], rcond=None)[0] for k in spans}
         pred = design(test_q[:, idx], exps) @ coef
         err_l = (pred - test_l[m]) * 1e3
-        err_r = []
-        for j, k in enumerate(spans):
-            d = []
-            for e, c in zip(exps, coef):
-                if e[j] == 0:
-                    d.append(np.zeros(test_q.shape[0]))
-                    continue
-                e2 = list(e)
-                e2[j] -= 1
-                d.append(c * e[j] * np.prod(test_q[:, idx] ** np.array(e2), axis=1))
-            err_r.append((-np.sum(d, axis=0) - test_r[m][k]) * 1e3)
-        err_r = np.concatenate(err_r)
-        mus = model.getMuscles().get(f"{m}_r")
+        test_basis = design(test_q[:, idx], exps)
+        err_r = np.concatenate([(test_basis @ arm_coef[k] - test_r[m][k]) * 1e3 for k in spans])
+        err_dl = np.concatenate([(-derivative_design(test_q[:, idx], exps, j) @ coef - test_r[m][k]) * 1e3
+                                 for j, k in enumerate(spans)])
+        mus = osim.DeGrooteFregly2016Muscle.safeDownCast(model.getMuscles().get(f"{m}_r"))
         out["muscles"][m] = {
             "coordinates": spans, "exponents": [list(e) for e in exps], "coefficients_m": coef.tolist(),
+            "moment_arm_coefficients_m": {k: arm_coef[k].tolist() for k in spans},
             "max_isometric_force_n": mus.getMaxIsometricForce(), "optimal_fiber_length_m": mus.getOptimalFiberLength(),
             "tendon_slack_length_m": mus.getTendonSlackLength(),
             "pennation_at_optimal_rad": mus.getPennationAngleAtOptimalFiberLength(),
+            "passive_strain": mus.get_passive_fiber_strain_at_one_norm_force(),
+            "tendon_strain": mus.get_tendon_strain_at_one_norm_force(),
             "min_length_m": float(min(train_l[m].min(), test_l[m].min())),
             "fit": {"length_rms_mm": float(np.sqrt(np.mean(err_l**2))), "length_max_mm": float(np.max(np.abs(err_l))),
                     "moment_arm_rms_mm": float(np.sqrt(np.mean(err_r**2))),
-                    "moment_arm_max_mm": float(np.max(np.abs(err_r)))}}
+                    "moment_arm_max_mm": float(np.max(np.abs(err_r))),
+                    "minus_dl_dq_vs_moment_arm_max_mm": float(np.max(np.abs(err_dl)))}}
         f = out["muscles"][m]["fit"]
         print(f"{m:<8} {'+'.join(spans):<11} length RMS {f['length_rms_mm']:.3f} max {f['length_max_mm']:.3f} mm; "
-              f"moment arm RMS {f['moment_arm_rms_mm']:.3f} max {f['moment_arm_max_mm']:.3f} mm")
+              f"moment arm RMS {f['moment_arm_rms_mm']:.3f} max {f['moment_arm_max_mm']:.3f} mm "
+              f"(−∂L/∂q off by up to {f['minus_dl_dq_vs_moment_arm_max_mm']:.1f} mm)")
     args.output.parent.mkdir(parents=True, exist_ok=True)
     args.output.write_text(json.dumps(out, indent=1))
     print(f"wrote {args.output}")

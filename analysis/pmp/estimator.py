@@ -16,8 +16,8 @@ relative deviation) so that directions the data do not determine stay at the gen
 instead of wandering; the identifiability report says which those are.
 
 Parameters, shared by all trials given: tendon slack length of every muscle crossing a moving
-joint (bounds: 60 % of generic, and the shortest path length over the experiment's range of
-hip, knee and ankle angles, so no muscle buckles), passive fibre strain ε₀ of the knee muscles (0.2–1.2) and tendon strain ε_T0 of the calf
+joint (bounds 0.6–1.25 × generic, :data:`SLACK_BOUNDS`; a tendon longer than its path is simply
+slack), passive fibre strain ε₀ of the knee muscles (0.2–1.2) and tendon strain ε_T0 of the calf
 muscles (0.02–0.12). All decision variables are scaled to order one.
 """
 
@@ -28,7 +28,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import FitError, InputError
+from ..errors import InputError
 from .curves import passive_fiber_force, tendon_force
 from .geometry import MUSCLES
 from .muscles import COMPLIANT, LegMuscles
@@ -38,6 +38,11 @@ SIGMA_Q_RAD = np.deg2rad(0.5)
 SIGMA_V_RAD_S = np.deg2rad(2.0)
 SIGMA_U_NM = 0.5
 REGULARISATION = 1e-3
+#: the residual may be at most this many times the measurement noise for anything to count as determined
+MISFIT_LIMIT = 3.0
+#: tendon slack length bounds, relative to the (scaled) generic value: subjects 20 % longer or
+#: 40 % shorter than the generic model can be represented
+SLACK_BOUNDS = (0.6, 1.25)
 
 
 @dataclass
@@ -93,16 +98,12 @@ def free_parameters(leg: LegMuscles, trials: list[PmpTrial]) -> ParameterSet:
     joints = {t.joint for t in trials}
     crossing = [m for m in MUSCLES if set(leg.paths[m].joints) & joints]
     names, gen, lo, hi = [], [], [], []
-    # the experiment's range (hip 15–90°, knee 0–90°, ankle −30…15°) with 5° to spare
-    grid = np.deg2rad(np.stack(np.meshgrid(np.linspace(10, 95, 10), np.linspace(0, 95, 12), np.linspace(-35, 20, 8),
-                                           indexing="ij"), -1).reshape(-1, 3))
     for m in crossing:
         ls = leg.params[m].tendon_slack_length_m
-        shortest = float(np.min(leg.path_length_m(m, hip=grid[:, 0], knee=grid[:, 1], ankle=grid[:, 2])))
         names.append(f"{m}.tendon_slack_length_m")
         gen.append(ls)
-        lo.append(0.6 * ls)
-        hi.append(max(shortest - 1e-3, 0.6 * ls + 1e-3))  # the path never shorter than the tendon: no buckling
+        lo.append(SLACK_BOUNDS[0] * ls)
+        hi.append(SLACK_BOUNDS[1] * ls)  # a tendon longer than its path is slack: no force, no buckling
     for m in crossing:
         if m in COMPLIANT:
             names.append(f"{m}.tendon_strain")
@@ -119,7 +120,9 @@ def free_parameters(leg: LegMuscles, trials: list[PmpTrial]) -> ParameterSet:
 
 @dataclass
 class PmpResult:
-    """Estimates, the fit per trial, and the solver's account of itself."""
+    """Estimates, the fit per trial, and the solver's account of itself (field names as SciPy's
+    ``OptimizeResult``: ``success``, ``status``, ``message``; a fit that did not converge is a
+    result with ``success=False`` and the last iterate, never an exception)."""
 
     parameters: dict[str, float]
     generic: dict[str, float]
@@ -127,10 +130,17 @@ class PmpResult:
     upper: dict[str, float]
     cost: float
     iterations: int
-    solve_s: float
+    solve_time_s: float
     status: str
     trials: list[dict[str, np.ndarray]] = field(default_factory=list)
     identifiability: dict[str, Any] = field(default_factory=dict)
+    success: bool = True
+    message: str = ""
+
+    @property
+    def solve_s(self) -> float:
+        """Alias of :attr:`solve_time_s` (s)."""
+        return self.solve_time_s
 
 
 def _muscle_moment(leg: LegMuscles, m: str, joint: str, q: dict[str, Any], ls: Any, strain: Any, lt_norm: Any) -> tuple[Any, Any]:
@@ -146,7 +156,7 @@ def _muscle_moment(leg: LegMuscles, m: str, joint: str, q: dict[str, Any], ls: A
         lt = lt_norm * ls
         along = lmt - lt
         lm = ca.sqrt(along**2 + h**2)
-        res = passive_fiber_force(lm / lo, 0.6) * along / lm - tendon_force(lt_norm, strain)
+        res = passive_fiber_force(lm / lo, leg.params[m].passive_strain) * along / lm - tendon_force(lt_norm, strain)
         return r * p.max_isometric_force_n * tendon_force(lt_norm, strain), res
     along = lmt - ls
     lm = ca.sqrt(along**2 + h**2)
@@ -200,7 +210,6 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
     problem the Moco benchmark shares with OpenSim); by default the leg's muscles.
 
     :raises InputError: a trial is empty or moves another joint than knee/ankle.
-    :raises FitError: IPOPT does not converge.
     """
     import time
 
@@ -275,20 +284,24 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
                                                   "sb": "yes"})
     t0 = time.perf_counter()
     try:
-        sol = opti.solve()
-        status = "converged"
-    except RuntimeError as err:
-        raise FitError(f"IPOPT did not converge: {err}") from err
+        sol: Any = opti.solve()
+        success, message = True, "IPOPT converged"
+    except RuntimeError as err:  # the last iterate is still a result: success=False says so
+        sol = opti.debug
+        success, message = False, f"IPOPT did not converge ({str(err).splitlines()[-1][:160]}); tried " \
+                                  f"{intervals} intervals per trial, max_iter {max_iter}, from the generic values"
     solve_s = time.perf_counter() - t0
     est = np.asarray(sol.value(p_scaled)).ravel() * pset.generic
     stats = sol.stats()
+    status = str(stats.get("return_status", "unknown"))
     res_trials = []
     for t, tt, q, v, u, u_scale, qm, vm, um in outputs:
         res_trials.append({"name": t.name, "time_s": tt, "angle_rad": sol.value(q), "velocity_rad_s": sol.value(v),
                            "torque_nm": sol.value(u) * u_scale, "measured_angle_rad": qm, "measured_torque_nm": um})
     return PmpResult(dict(zip(pset.names, est.tolist())), dict(zip(pset.names, pset.generic.tolist())),
                      dict(zip(pset.names, pset.lower.tolist())), dict(zip(pset.names, pset.upper.tolist())),
-                     float(sol.value(cost)), int(stats.get("iter_count", -1)), solve_s, status, res_trials)
+                     float(sol.value(cost)), int(stats.get("iter_count", -1)), solve_s, status, res_trials,
+                     success=success, message=message)
 
 
 def moment_function(leg: LegMuscles, trial: PmpTrial, parameters: dict[str, float]) -> Any:
@@ -302,18 +315,26 @@ def moment_function(leg: LegMuscles, trial: PmpTrial, parameters: dict[str, floa
 
 
 def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None = None,
-                    rel_se_limit: float = 0.035, stride: int = 5) -> dict[str, Any]:
-    """Which parameters the trials determine: Fisher information of the torque residuals at the estimate.
+                    rel_se_limit: float = 0.035, stride: int = 1, misfit_limit: float = MISFIT_LIMIT) -> dict[str, Any]:
+    """Which parameters the trials determine, with honest 95 % intervals.
 
-    The torque residuals (σ_u = 0.5 N·m) at the measured angles are linearised in the relative
-    parameters (Gauss–Newton: F = JᵀJ, J from CasADi's exact derivatives). A parameter is
-    *determined* when its standard error, from the pseudo-inverse of F restricted to the
-    directions the data constrain, is below ``rel_se_limit`` (3.5 %, the dissertation's accuracy),
-    no parameter of its muscle is at a bound, and every parameter of the muscle's synergists (other
-    muscles crossing the same joints with the same moment-arm signs) is determined too — otherwise
-    they can share the load in ways the local curvature does not see;
-    the eigenvectors of F with eigenvalues below 1/limit² are the combinations the data leave free,
-    listed with their largest components.
+    Uncertainty: the torque residuals e = u_model(q) − u_measured at every measured sample
+    (quasi-static model, as the sweeps are slow) are linearised in the relative parameters (J from
+    CasADi's exact derivatives). The covariance is the least-squares one with the residual's own
+    variance σ̂² (not an assumed sensor noise, so a model that misses the data gets wide
+    intervals) inflated by n / n_eff, the residual's effective sample size from its integrated
+    autocorrelation time (systematic misfit is correlated, and counts as few samples):
+    C = σ̂² (JᵀJ)⁺ · n / n_eff, restricted to the directions the data constrain.
+
+    A parameter is *determined* when (1) the fit converged; (2) the residual is consistent with
+    the measurement noise: its RMS is at most ``misfit_limit`` × the noise seen in the torque's
+    sample-to-sample differences (otherwise the report says the model does not fit well enough
+    to determine anything, and by how much); (3) its standard error is below ``rel_se_limit``
+    (3.5 %, the dissertation's accuracy); (4) no parameter of its muscle is at a bound; and (5)
+    every parameter of its synergists (other muscles crossing the same joints with the same
+    moment-arm signs) is determined too — otherwise they can share the load in ways the local
+    curvature does not see. The eigenvectors of the information with eigenvalues below
+    1/limit² are the combinations the data leave free, listed with their largest components.
     """
     import casadi as ca
 
@@ -323,24 +344,40 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     prel = ca.SX.sym("p", len(names))
     par = {n: values[i] * prel[i] for i, n in enumerate(names)}
     q = ca.SX.sym("q")
-    rows = []
+    rows, residual_parts, noise_parts = [], [], []
     for t in trials:
         moment = _eliminate_tendons(*_muscles_moment(leg, t, q, par), [q, prel])
-        jac = ca.Function("j", [q, prel], [ca.jacobian(moment, prel)])
-        for qq in t.angle_rad[::stride]:
-            rows.append(np.asarray(jac(float(qq), np.ones(len(names)))).ravel() / SIGMA_U_NM)
-    j = np.array(rows)
-    fisher = j.T @ j
-    w, vecs = np.linalg.eigh(fisher)
+        model_u = -(moment + subject.gravity_moment_nm(t.joint, q, t.fixed_rad, ca.cos))
+        f = ca.Function("u", [q, prel], [model_u, ca.jacobian(model_u, prel)]).map(t.angle_rad[::stride].size)
+        u_pred, jac = f(t.angle_rad[::stride].reshape(1, -1), ca.repmat(ca.DM.ones(len(names)), 1,
+                                                                           t.angle_rad[::stride].size))
+        rows.append(np.asarray(jac).reshape(-1, len(names)))  # the map lays the 1×k rows side by side
+        residual_parts.append(np.asarray(u_pred).ravel() - t.torque_nm[::stride])
+        noise_parts.append(np.diff(t.torque_nm[::stride]) / np.sqrt(2.0))
+    j = np.vstack(rows)
+    n, k = j.shape
+    residual_rms = float(np.sqrt(np.mean(np.concatenate(residual_parts) ** 2)))
+    noise = float(1.4826 * np.median(np.abs(np.concatenate(noise_parts))))  # robust σ of white noise
+    sigma2 = float(np.sum(np.concatenate(residual_parts) ** 2) / max(n - k, 1))
+    n_eff = float(sum(e.size / _autocorrelation_time(e) for e in residual_parts))
+    info = j.T @ j / (sigma2 * n / max(n_eff, 1.0))
+    w, vecs = np.linalg.eigh(info)
     keep = w > 1.0 / rel_se_limit**2
     cov = (vecs[:, keep] / w[keep]) @ vecs[:, keep].T
     se = np.sqrt(np.maximum(np.diag(cov), 0.0))
     # a parameter is determined only if it has (almost) no part in the unconstrained directions
     free_part = np.sqrt(np.sum(vecs[:, ~keep] ** 2, axis=1)) if (~keep).any() else np.zeros(len(names))
     determined = (se < rel_se_limit) & (free_part < 0.1)
-    # local information is not global identifiability: a parameter at its bound, or one whose
-    # synergists (same joints, same moment-arm signs) are not all determined, can trade load with
-    # them; report such muscles' parameters as undetermined rather than trust the local curvature
+    misfit_ratio = residual_rms / max(noise, 1e-12)
+    reasons = []
+    if not result.success:
+        reasons.append(f"the fit did not converge ({result.message})")
+    if misfit_ratio > misfit_limit:
+        reasons.append(f"the model does not fit the data well enough to determine anything: residual RMS "
+                       f"{residual_rms:.3g} N·m is {misfit_ratio:.1f}× the measurement noise ({noise:.3g} N·m; "
+                       f"at most {misfit_limit:g}× allowed)")
+    if reasons:
+        determined[:] = False
     at_bound = [n for n in names if result.parameters[n] <= result.lower[n] * (1 + 1e-3)
                 or result.parameters[n] >= result.upper[n] * (1 - 1e-3)]
     mid = {"hip": np.deg2rad(50.0), "knee": np.deg2rad(45.0), "ankle": 0.0}
@@ -368,4 +405,26 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
             "relative_se": dict(zip(names, se.tolist())),
             "ci95": {n: [values[k] * (1 - 1.96 * se[k]), values[k] * (1 + 1.96 * se[k])]
                      for k, n in enumerate(names) if determined[k]},
-            "free_combinations": combos, "rank": int(keep.sum()), "parameters": len(names), "at_bound": at_bound}
+            "free_combinations": combos, "rank": int(keep.sum()), "parameters": len(names), "at_bound": at_bound,
+            "residual_rms_nm": residual_rms, "noise_nm": noise, "misfit_ratio": misfit_ratio,
+            "effective_samples": n_eff, "samples": n, "not_determined_because": reasons,
+            "uncertainty": "least-squares covariance with the residual's variance, inflated by n/n_eff "
+                           "(integrated autocorrelation time of the residual)"}
+
+
+def _autocorrelation_time(e: np.ndarray) -> float:
+    """Integrated autocorrelation time of ``e`` (samples per independent sample, ≥ 1; Geyer's
+    initial positive sequence)."""
+    x = np.asarray(e, dtype=float) - float(np.mean(e))
+    if x.size < 4 or not np.any(x):
+        return 1.0
+    spectrum = np.fft.rfft(x, 2 * x.size)
+    acf = np.fft.irfft(spectrum * np.conj(spectrum))[: x.size]
+    acf = acf / acf[0]
+    tau = 1.0
+    for lag in range(1, x.size - 1, 2):
+        pair = acf[lag] + acf[lag + 1]
+        if pair <= 0:
+            break
+        tau += 2.0 * pair
+    return float(min(max(tau, 1.0), x.size))

@@ -1,10 +1,14 @@
 """Muscle-tendon lengths and moment arms of the eleven leg muscles as smooth polynomials of hip, knee and ankle angle.
 
 The coefficients come from ``tools/fit_muscle_paths.py`` run on Rajagopal et al. (2016), stored
-in ``data/rajagopal2016_paths.json`` with the muscles' generic parameters and the fit's errors
-against OpenSim's own path geometry. Angles in radians (hip flexion, knee flexion, ankle
-dorsiflexion positive); lengths in m; a moment arm is r = −∂L/∂q (m), positive when the muscle
-pulls toward positive angle. Every function accepts numpy arrays or CasADi symbols.
+in ``data/rajagopal2016_paths.json`` with the muscles' generic parameters, the model's segment
+lengths and the fit's errors against OpenSim's own path geometry. Angles in radians (hip
+flexion, knee flexion, ankle dorsiflexion positive); lengths in m. A moment arm (m, positive
+when the muscle pulls toward positive angle) is OpenSim's ``computeMomentArm``, fitted by its
+own polynomial: where the coupled knee or a wrapping surface kinks the path it is not −∂L/∂q of
+the length (the gastrocnemius near full extension: 17 mm apart), and OpenSim's joint moment is
+tendon force × that moment arm. Paths fitted before moment arms had their own polynomials fall
+back to r = −∂L/∂q. Every function accepts numpy arrays or CasADi symbols.
 """
 
 from __future__ import annotations
@@ -35,15 +39,16 @@ class MusclePath:
     pennation_at_optimal_rad: float
     min_length_m: float
     fit: dict[str, float]
+    moment_arm_coefficients_m: dict[str, tuple[float, ...]] | None = None
+    passive_strain: float = 0.6
+    tendon_strain: float = 0.049
 
     def _args(self, angles: dict[str, Any]) -> list[Any]:
         return [angles[j] for j in self.joints]
 
-    def length_m(self, **angles_rad: Any) -> Any:
-        """Muscle-tendon length (m) at ``hip=…, knee=…, ankle=…`` (rad; joints it does not cross are ignored)."""
-        q = self._args(angles_rad)
+    def _polynomial(self, coefficients: tuple[float, ...], q: list[Any]) -> Any:
         total = 0.0
-        for e, c in zip(self.exponents, self.coefficients_m):
+        for e, c in zip(self.exponents, coefficients):
             term = c
             for qi, k in zip(q, e):
                 if k:
@@ -51,8 +56,20 @@ class MusclePath:
             total = total + term
         return total
 
+    def length_m(self, **angles_rad: Any) -> Any:
+        """Muscle-tendon length (m) at ``hip=…, knee=…, ankle=…`` (rad; joints it does not cross are ignored)."""
+        return self._polynomial(self.coefficients_m, self._args(angles_rad))
+
     def moment_arm_m(self, joint: str, **angles_rad: Any) -> Any:
-        """r = −∂L/∂q of ``joint`` (m); zero for a joint the muscle does not cross."""
+        """OpenSim's moment arm about ``joint`` (m); zero for a joint the muscle does not cross."""
+        if joint not in self.joints:
+            return 0.0 * angles_rad[joint]
+        if self.moment_arm_coefficients_m is not None:
+            return self._polynomial(self.moment_arm_coefficients_m[joint], self._args(angles_rad))
+        return self.length_derivative_moment_arm_m(joint, **angles_rad)
+
+    def length_derivative_moment_arm_m(self, joint: str, **angles_rad: Any) -> Any:
+        """r = −∂L/∂q of the length polynomial (m): the conservative moment arm."""
         if joint not in self.joints:
             return 0.0 * angles_rad[joint]
         j = self.joints.index(joint)
@@ -73,13 +90,31 @@ class MusclePath:
 @lru_cache(maxsize=4)
 def load_paths(name: str = "rajagopal2016_paths.json") -> dict[str, MusclePath]:
     """The fitted paths shipped with the package."""
-    data = json.loads(resources.files(__package__).joinpath("data", name).read_text(encoding="utf-8"))
+    data = _data(name)
     out = {}
     for m, d in data["muscles"].items():
+        arms = d.get("moment_arm_coefficients_m")
         out[m] = MusclePath(m, tuple(d["coordinates"]), tuple(tuple(e) for e in d["exponents"]),
                             tuple(d["coefficients_m"]), d["max_isometric_force_n"], d["optimal_fiber_length_m"],
-                            d["tendon_slack_length_m"], d["pennation_at_optimal_rad"], d["min_length_m"], d["fit"])
+                            d["tendon_slack_length_m"], d["pennation_at_optimal_rad"], d["min_length_m"], d["fit"],
+                            {k: tuple(v) for k, v in arms.items()} if arms else None,
+                            float(d.get("passive_strain", 0.6)), float(d.get("tendon_strain", 0.049)))
     return out
+
+
+@lru_cache(maxsize=4)
+def _data(name: str) -> dict[str, Any]:
+    return json.loads(resources.files(__package__).joinpath("data", name).read_text(encoding="utf-8"))
+
+
+def model_segment_lengths_m(name: str = "rajagopal2016_paths.json") -> dict[str, float]:
+    """The generic model's own segment lengths between joint centres (m): thigh (hip–knee) and
+    shank (knee–ankle), read from the ``.osim`` by the fitting tool. They are the reference of
+    subject scaling (as OpenSim's scale tool divides measured by model distances)."""
+    segments = _data(name).get("segments")
+    if not segments:
+        raise KeyError(f"{name} has no segment lengths: regenerate it with tools/fit_muscle_paths.py")
+    return {k: float(v) for k, v in segments.items()}
 
 
 def fit_errors() -> dict[str, dict[str, float]]:
@@ -87,4 +122,4 @@ def fit_errors() -> dict[str, dict[str, float]]:
     return {m: dict(p.fit) for m, p in load_paths().items()}
 
 
-__all__ = ["MUSCLES", "JOINTS", "MusclePath", "load_paths", "fit_errors"]
+__all__ = ["MUSCLES", "JOINTS", "MusclePath", "load_paths", "fit_errors", "model_segment_lengths_m"]

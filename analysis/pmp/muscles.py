@@ -23,7 +23,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from .curves import passive_fiber_force, tendon_force
-from .geometry import MUSCLES, MusclePath, load_paths
+from .geometry import MUSCLES, MusclePath, load_paths, model_segment_lengths_m
 
 COMPLIANT = ("soleus", "gasmed", "gaslat")
 
@@ -33,8 +33,8 @@ class MuscleParameters:
     """The estimated parameters of one muscle."""
 
     tendon_slack_length_m: float
-    passive_strain: float = 0.6     # ε₀ (DeGroote–Fregly default)
-    tendon_strain: float = 0.049    # ε_T0 (DeGroote–Fregly default)
+    passive_strain: float = 0.6     # ε₀ (DeGroote–Fregly default; the leg takes its model's value)
+    tendon_strain: float = 0.049    # ε_T0 (DeGroote–Fregly default; the leg takes its model's value)
 
 
 @dataclass
@@ -47,7 +47,9 @@ class LegMuscles:
 
     def __post_init__(self) -> None:
         for m in MUSCLES:
-            self.params.setdefault(m, MuscleParameters(self.paths[m].tendon_slack_length_m * self.length_scale))
+            p = self.paths[m]
+            self.params.setdefault(m, MuscleParameters(p.tendon_slack_length_m * self.length_scale,
+                                                       p.passive_strain, p.tendon_strain))
 
     def optimal_fiber_length_m(self, m: str) -> float:
         return self.paths[m].optimal_fiber_length_m * self.length_scale
@@ -98,6 +100,12 @@ class LegMuscles:
                          if joint in self.paths[m].joints))
 
 
-def scale_for_subject(shank_length_m: float, generic_shank_length_m: float = 0.43) -> float:
-    """Length scale of the leg muscles for a subject's shank (Rajagopal's generic tibia ≈ 0.43 m)."""
-    return shank_length_m / generic_shank_length_m
+def scale_for_subject(shank_length_m: float, generic_shank_length_m: float | None = None) -> float:
+    """Length scale of the leg muscles for a subject, as OpenSim's scale tool: the subject's
+    measured shank length (knee joint centre, at the fibula head, to ankle joint centre, at the
+    lateral malleolus; m) over the same distance in the generic model (Rajagopal 2016: 0.3965 m,
+    read from the ``.osim`` by ``tools/fit_muscle_paths.py``). One factor scales every muscle's
+    path, optimal fibre length and tendon slack length."""
+    reference = generic_shank_length_m if generic_shank_length_m is not None else \
+        model_segment_lengths_m()["shank_length_m"]
+    return shank_length_m / reference

@@ -14,9 +14,11 @@ from analysis.pmp.synthetic import simulated_subject
 def test_determined_parameters_are_recovered_within_3_5_percent(seed: int) -> None:
     truth, trials, subject = simulated_subject(seed)
     res = estimate(trials, subject, intervals=24)
-    assert res.status == "converged" and res.cost < 1.0  # the fit reaches the noise: σ-normalised cost ≈ 0.4
+    assert res.success and res.status == "Solve_Succeeded" and res.cost < 1.0  # the fit reaches the noise: σ-normalised cost ≈ 0.4
     idf = identifiability(res, trials, subject)
-    assert len(idf["determined"]) >= 2 and idf["undetermined"]  # the dissertation's problem: not all are
+    # the dissertation's problem: not all are (with the model's own ε₀ = 0.7 the knee muscles carry
+    # less passive force than at DGF's default 0.6, so fewer are determined than before)
+    assert len(idf["determined"]) >= 1 and idf["undetermined"]
     assert "recfem.tendon_slack_length_m" in idf["determined"]
     assert not any(n.startswith("vas") for n in idf["determined"])  # three vasti on one moment: load-sharing free
     for name in idf["determined"]:
@@ -65,7 +67,8 @@ def test_instrument_analyze_pmp_on_trial_csvs(tmp_path, capsys) -> None:
                             "velocity_deg_s": np.rad2deg(t.velocity_rad_s)},
                            {"kind": "knee", "hip_flexion_deg": float(np.rad2deg(t.fixed_rad["hip"])),
                             "ankle_dorsiflexion_deg": 0.0,
-                            "subject": {"mass_kg": 75.0, "shank_length_m": 0.43, "foot_length_m": 0.26}})
+                            # the generic model's own shank: no scaling, as the generator
+                            "subject": {"mass_kg": 75.0, "shank_length_m": 0.3965, "foot_length_m": 0.26}})
         files.append(tmp_path / f"{t.name}.csv")
         write_trial_csv(files[-1], table)
     assert main(["analyze", "pmp", *map(str, files), "--intervals", "16", "--out", str(tmp_path / "r"), "--json"]) == 0
@@ -117,7 +120,7 @@ def test_a_published_model_as_measured_data_converges_within_bounds_and_shows_it
         trials.append(PmpTrial("knee", fixed, t, q, np.full(t.size, np.deg2rad(5.0)), u, f"riener hip{hip:g}"))
     report = analyse(trials, subject, intervals=16)
     res = report["result"]
-    assert res.status == "converged"
+    assert res.success and res.status == "Solve_Succeeded"
     for name, value in res.parameters.items():  # the bounds are the physiological ranges
         assert res.lower[name] * (1 - 1e-6) <= value <= res.upper[name] * (1 + 1e-6), name
     rmse = [v.torque_rmse_nm_per_kg for v in report["forward_dynamics"]]

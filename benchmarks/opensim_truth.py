@@ -1,0 +1,141 @@
+"""Isokinetic trials whose passive moments OpenSim made, from known, perturbed parameters.
+
+The protocol's sweeps (knee 0→90° at hip 90/55/15°, ankle 15→−30° dorsiflexion at knee 0/45/90°,
+5 °/s, 100 Hz) of a subject whose muscles are Rajagopal 2016's with perturbed tendon slack
+lengths, passive fibre strains and tendon strains. The passive moments come from OpenSim in a
+subprocess (:mod:`benchmarks.opensim_passive`: its DeGrooteFregly2016 curves, ``getLength`` and
+``computeMomentArm``) at 46 poses per sweep, interpolated by a cubic spline; the limb weight is
+written here from Winter's segment table, independently of the estimator's code; sensor noise
+is white on torque and angle. Nothing of the estimator's path polynomials or curve code enters.
+
+Variants (``variant=``): ``"base"`` (rigid knee tendons, relaxed), ``"realistic"`` (compliant
+knee tendons and activation 0.01 — effects the estimator does not model).
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+MODEL = Path(__file__).resolve().parents[2] / "shared" / "models" / "Rajagopal2016.osim"
+MUSCLES = ("bflh", "bfsh", "gaslat", "gasmed", "soleus", "semimem", "semiten", "vasint", "vaslat", "vasmed", "recfem")
+CALF = ("soleus", "gasmed", "gaslat")
+KNEE_MUSCLES = tuple(m for m in MUSCLES if m not in ("soleus",))
+RATE_HZ = 100.0
+SPEED_DEG_S = 5.0
+GRAVITY = 9.81
+POSES_PER_SWEEP = 46
+
+
+@dataclass
+class TruthTrial:
+    """One sweep (SI): the dynamometer torque u toward positive angle (arm weight removed)."""
+
+    joint: str
+    fixed_rad: dict[str, float]
+    time_s: np.ndarray
+    angle_rad: np.ndarray
+    velocity_rad_s: np.ndarray
+    torque_nm: np.ndarray
+    passive_nm: np.ndarray  # OpenSim's passive muscle moment at the true angle (noise-free)
+    name: str
+
+
+def model_path() -> Path:
+    if not MODEL.exists():
+        raise FileNotFoundError(f"{MODEL}: the generic model (shared, not in the repo) is needed for OpenSim truth")
+    return MODEL
+
+
+def opensim(request: dict[str, Any], timeout_s: float = 600.0) -> dict[str, Any]:
+    """Ask :mod:`benchmarks.opensim_passive` in a child interpreter."""
+    out = subprocess.run([sys.executable, "-m", "benchmarks.opensim_passive"], input=json.dumps(request),
+                         capture_output=True, text=True, timeout=timeout_s, cwd=Path(__file__).resolve().parents[1])
+    if out.returncode != 0:
+        raise RuntimeError(f"OpenSim truth failed: {out.stderr[-2000:]}")
+    return json.loads(out.stdout)
+
+
+def generic_parameters() -> dict[str, dict[str, float]]:
+    """The model's own parameters (after ``replaceMuscles``), from OpenSim."""
+    return opensim({"what": "facts", "model": str(model_path())})["muscles"]
+
+
+def draw_truth(seed: int, generic: dict[str, dict[str, float]], slack_spread: float = 0.05,
+               strain_spread: float = 0.25) -> dict[str, dict[str, float]]:
+    """Perturbed parameters: slack lengths ×U(1±slack_spread), strains ×U(1±strain_spread)."""
+    rng = np.random.default_rng(seed)
+    out = {}
+    for m in MUSCLES:
+        g = generic[m]
+        out[m] = {"tendon_slack_length_m": g["tendon_slack_length_m"] * float(rng.uniform(1 - slack_spread, 1 + slack_spread)),
+                  "passive_strain": g["passive_strain"] * float(rng.uniform(1 - strain_spread, 1 + strain_spread)),
+                  "tendon_strain": g["tendon_strain"] * float(rng.uniform(1 - strain_spread, 1 + strain_spread))}
+    return out
+
+
+def sweeps() -> list[tuple[str, dict[str, float], float, float, str]]:
+    """(moving joint, fixed angles rad, start deg, end deg, name) of the protocol's six sweeps."""
+    out = [("knee", {"hip": np.radians(h), "ankle": 0.0}, 0.0, 90.0, f"knee hip {h}°") for h in (90, 55, 15)]
+    out += [("ankle", {"hip": np.radians(90.0), "knee": np.radians(k)}, 15.0, -30.0, f"ankle knee {k}°")
+            for k in (0, 45, 90)]
+    return out
+
+
+def limb_weight_nm(joint: str, angle_rad: np.ndarray, fixed: dict[str, float], mass_kg: float, shank_m: float,
+                   foot_m: float) -> np.ndarray:
+    """Weight of the segments distal to ``joint`` toward positive angle (N·m), seated, thigh level.
+
+    Winter (2009): shank 4.65 % of body mass with its COM 43.3 % down from the knee, foot 1.45 %
+    at the ankle's distance and, for the ankle, at half the foot length forward of the ankle.
+    """
+    if joint == "knee":
+        lever = 0.0465 * mass_kg * 0.433 * shank_m + 0.0145 * mass_kg * shank_m
+        return lever * GRAVITY * np.cos(angle_rad)
+    lever = 0.0145 * mass_kg * 0.5 * foot_m
+    return -lever * GRAVITY * np.cos(angle_rad + np.pi / 2 - fixed.get("knee", 0.0))
+
+
+def make_trials(truth: dict[str, dict[str, float]], seed: int, *, variant: str = "base", mass_kg: float = 75.0,
+                shank_m: float = 0.3965, foot_m: float = 0.26, torque_noise_nm: float = 0.1,
+                angle_noise_deg: float = 0.1) -> list[TruthTrial]:
+    """The six sweeps of one subject with ``truth`` parameters (OpenSim-made passive moments)."""
+    rng = np.random.default_rng(10_000 + seed)
+    plan = sweeps()
+    poses, spans = [], []
+    for joint, fixed, start, end, _ in plan:
+        grid = np.radians(np.linspace(start, end, POSES_PER_SWEEP))
+        spans.append(grid)
+        for q in grid:
+            pose = {"hip": fixed.get("hip", 0.0), "knee": fixed.get("knee", 0.0), "ankle": fixed.get("ankle", 0.0)}
+            pose[joint] = float(q)
+            poses.append(pose)
+    request = {"model": str(model_path()), "parameters": truth, "poses": poses,
+               "compliant_knee_tendons": variant == "realistic", "activation": 0.01 if variant == "realistic" else 0.0}
+    answer = opensim(request)
+    trials = []
+    for i, ((joint, fixed, start, end, name), grid) in enumerate(zip(plan, spans)):
+        moments = np.array(answer["moments_nm"][joint][i * POSES_PER_SWEEP:(i + 1) * POSES_PER_SWEEP])
+        order = np.argsort(grid)
+        spline = CubicSpline(grid[order], moments[order])
+        duration = abs(end - start) / SPEED_DEG_S
+        t = np.arange(0.0, duration, 1.0 / RATE_HZ)
+        q = np.radians(start + np.sign(end - start) * SPEED_DEG_S * t)
+        v = np.full(t.size, np.radians(SPEED_DEG_S) * np.sign(end - start))
+        passive = spline(q)
+        u = -(passive + limb_weight_nm(joint, q, fixed, mass_kg, shank_m, foot_m))
+        trials.append(TruthTrial(joint, dict(fixed), t, q + np.radians(angle_noise_deg) * rng.standard_normal(t.size),
+                                 v, u + torque_noise_nm * rng.standard_normal(t.size), passive, name))
+    return trials
+
+
+def path_geometry(poses: list[dict[str, float]]) -> dict[str, Any]:
+    """OpenSim's path lengths and moment arms at ``poses`` (generic parameters)."""
+    return opensim({"model": str(model_path()), "poses": poses})
