@@ -35,8 +35,12 @@ def _wire(value: float, lsb: float, low: int, high: int, what: str, unit: str) -
     """``value / lsb`` rounded, refused (typed) when it is not finite or leaves ``low..high``."""
     if not math.isfinite(value):
         raise LimitViolationError(f"{what} must be finite, got {value}")
-    raw = round(value / lsb)
-    if not low <= raw <= high:
+    scaled = value / lsb
+    if not (math.isfinite(scaled) and low - 1 <= scaled <= high + 1):
+        raw = None
+    else:
+        raw = round(scaled)
+    if raw is None or not low <= raw <= high:
         raise LimitViolationError(f"{what} {value:g} {unit} is not representable on the wire "
                                   f"({low * lsb:g}..{high * lsb:g} {unit} in steps of {lsb:g})")
     return raw
