@@ -8,7 +8,7 @@ import json
 import sys
 from pathlib import Path
 
-BENCHMARKS = {"drivers": "benchmarks.drivers", "recording": "benchmarks.recording", "aads": "benchmarks.aads",
+BENCHMARKS = {"drivers": "benchmarks.drivers", "pmp_opensim": "benchmarks.pmp_opensim", "recording": "benchmarks.recording", "aads": "benchmarks.aads",
               "diagnosis": "benchmarks.diagnosis", "pmp": "benchmarks.pmp",
               "relaxation": "benchmarks.relaxation", "gui": "benchmarks.gui", "safety": "benchmarks.safety"}
 

@@ -6,7 +6,9 @@ lengths, passive fibre strains and tendon strains. The passive moments come from
 subprocess (:mod:`benchmarks.opensim_passive`: its DeGrooteFregly2016 curves, ``getLength`` and
 ``computeMomentArm``) at 46 poses per sweep, interpolated by a cubic spline; the limb weight is
 written here from Winter's segment table, independently of the estimator's code; sensor noise
-is white on torque and angle. Nothing of the estimator's path polynomials or curve code enters.
+is white on torque and angle. As on the instrument, no sweep goes past the dynamometer's
+150 N·m torque ceiling: at hip 90° the generic hamstrings near full extension would need more,
+so that sweep starts where the torque falls below it. Nothing of the estimator's path polynomials or curve code enters.
 
 Variants (``variant=``): ``"base"`` (rigid knee tendons, relaxed), ``"realistic"`` (compliant
 knee tendons and activation 0.01 — effects the estimator does not model).
@@ -46,6 +48,7 @@ class TruthTrial:
     torque_nm: np.ndarray
     passive_nm: np.ndarray  # OpenSim's passive muscle moment at the true angle (noise-free)
     name: str
+    true_angle_rad: np.ndarray  # the angle without sensor noise
 
 
 def model_path() -> Path:
@@ -105,7 +108,7 @@ def limb_weight_nm(joint: str, angle_rad: np.ndarray, fixed: dict[str, float], m
 
 def make_trials(truth: dict[str, dict[str, float]], seed: int, *, variant: str = "base", mass_kg: float = 75.0,
                 shank_m: float = 0.3965, foot_m: float = 0.26, torque_noise_nm: float = 0.1,
-                angle_noise_deg: float = 0.1) -> list[TruthTrial]:
+                angle_noise_deg: float = 0.1, max_torque_nm: float = 150.0) -> list[TruthTrial]:
     """The six sweeps of one subject with ``truth`` parameters (OpenSim-made passive moments)."""
     rng = np.random.default_rng(10_000 + seed)
     plan = sweeps()
@@ -131,8 +134,14 @@ def make_trials(truth: dict[str, dict[str, float]], seed: int, *, variant: str =
         v = np.full(t.size, np.radians(SPEED_DEG_S) * np.sign(end - start))
         passive = spline(q)
         u = -(passive + limb_weight_nm(joint, q, fixed, mass_kg, shank_m, foot_m))
+        # the dynamometer's torque ceiling: where the generic hamstrings at hip 90° would need more
+        # (tens of kN in semimembranosus near full extension), the sweep starts where it falls below
+        inside = np.abs(u) <= max_torque_nm
+        first = int(np.argmax(inside))
+        last = first + int(np.argmin(inside[first:])) if not inside[first:].all() else t.size
+        t, q, v, passive, u = t[first:last] - t[first], q[first:last], v[first:last], passive[first:last], u[first:last]
         trials.append(TruthTrial(joint, dict(fixed), t, q + np.radians(angle_noise_deg) * rng.standard_normal(t.size),
-                                 v, u + torque_noise_nm * rng.standard_normal(t.size), passive, name))
+                                 v, u + torque_noise_nm * rng.standard_normal(t.size), passive, name, q))
     return trials
 
 

@@ -76,6 +76,20 @@ def _replica_fit() -> dict[str, Any]:
             "replica_max_error_determined_pct": max((abs(err[n]) for n in res.determined), default=float("nan"))}
 
 
+def _opensim_truth(quick: bool) -> dict[str, Any]:
+    """Coverage, errors and the forward model against trials OpenSim made (benchmarks/pmp_opensim.py)."""
+    from . import pmp_opensim
+
+    try:
+        r = pmp_opensim.run(quick)
+    except FileNotFoundError as err:  # the generic .osim is not here
+        return {"coverage_95": None, "max_error_determined_pct": None, "forward_model_rmse_vs_opensim_Nm": None,
+                "opensim_truth_skipped": str(err)}
+    return {"coverage_95": r["coverage_95"], "max_error_determined_pct": r["max_error_determined_pct"],
+            "forward_model_rmse_vs_opensim_Nm": r["forward_model_rmse_vs_opensim_Nm"]["per_trial_max"],
+            "opensim_truth_determined": r["determined_total"], "opensim_truth_seeds": r["seeds"]}
+
+
 def run(quick: bool = False) -> dict[str, Any]:
     intervals = 16 if quick else 30
     truth, trials, subject = simulated_subject(1, ("knee", "ankle"))
@@ -90,6 +104,7 @@ def run(quick: bool = False) -> dict[str, Any]:
     idf_single = identifiability(single, [knee[1]], subject)
     replica = _replica_fit()
     moco = _moco_comparison()
+    independent = _opensim_truth(quick)
     out = {"quick": quick, "intervals_per_trial": intervals, "trials_full_subject": len(knee + ankle),
            "parameters_full_subject": len(full.parameters), "full_subject_fit_s": full_s,
            "full_subject_iterations": full.iterations, "full_subject_ipopt_s": full.solve_s,
@@ -97,7 +112,8 @@ def run(quick: bool = False) -> dict[str, Any]:
            "full_subject_max_error_determined_pct": _recovery(truth, full, idf_full),
            "single_trial_fit_s": single_s, "single_trial_iterations": single.iterations,
            "single_trial_determined": len(idf_single["determined"]),
-           "single_trial_max_error_determined_pct": _recovery(truth, single, idf_single), **replica, **moco}
+           "single_trial_max_error_determined_pct": _recovery(truth, single, idf_single), **replica, **moco,
+           **independent}
     print(f"{'quantity':<42}{'value':>14}")
     for k, v in out.items():
         print(f"{k:<42}{v!s:>14}" if not isinstance(v, float) else f"{k:<42}{v:>14.4g}")

@@ -31,19 +31,14 @@ def forward_model_rmse(trials: list[Any], truth: dict[str, dict[str, float]]) ->
         leg.params[m] = MuscleParameters(p["tendon_slack_length_m"], p["passive_strain"], p["tendon_strain"])
     out = []
     for t in trials:
-        q_true = np.linspace(t.angle_rad[0], t.angle_rad[-1], 40)  # noise-free angles of the sweep
+        step = max(t.passive_nm.size // 40, 1)
+        q_true = t.true_angle_rad[::step]
         fixed = {"hip": t.fixed_rad.get("hip", 0.0), "knee": t.fixed_rad.get("knee", 0.0),
                  "ankle": t.fixed_rad.get("ankle", 0.0)}
         ours = np.array([leg.joint_moment_nm(t.joint, **{**fixed, t.joint: float(q)}) for q in q_true])
-        theirs = np.interp(q_true, *_sorted(np.linspace(t.angle_rad[0], t.angle_rad[-1], t.passive_nm.size),
-                                            t.passive_nm))
+        theirs = t.passive_nm[::step]  # OpenSim's moment at those angles
         out.append(float(np.sqrt(np.mean((ours - theirs) ** 2))))
     return out
-
-
-def _sorted(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    order = np.argsort(x)
-    return x[order], y[order]
 
 
 def one_subject(seed: int, generic: dict[str, dict[str, float]], variant: str = "base",

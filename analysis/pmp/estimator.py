@@ -40,6 +40,10 @@ SIGMA_U_NM = 0.5
 REGULARISATION = 1e-3
 #: the residual may be at most this many times the measurement noise for anything to count as determined
 MISFIT_LIMIT = 3.0
+#: the muscle model's own error against OpenSim's passive moments at the true parameters (N·m,
+#: RMS over the protocol's six sweeps; python -m benchmarks pmp_opensim measures it: 0.53 at
+#: hip 90°, ≤ 0.19 elsewhere): the bias it can cause widens every interval
+MODEL_ERROR_RMS_NM = 0.25
 #: tendon slack length bounds, relative to the (scaled) generic value: subjects 20 % longer or
 #: 40 % shorter than the generic model can be represented
 SLACK_BOUNDS = (0.6, 1.25)
@@ -315,7 +319,8 @@ def moment_function(leg: LegMuscles, trial: PmpTrial, parameters: dict[str, floa
 
 
 def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None = None,
-                    rel_se_limit: float = 0.035, stride: int = 1, misfit_limit: float = MISFIT_LIMIT) -> dict[str, Any]:
+                    rel_se_limit: float = 0.035, stride: int = 1, misfit_limit: float = MISFIT_LIMIT,
+                    model_error_nm: float | None = None) -> dict[str, Any]:
     """Which parameters the trials determine, with honest 95 % intervals.
 
     Uncertainty: the torque residuals e = u_model(q) − u_measured at every measured sample
@@ -324,12 +329,16 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     variance σ̂² (not an assumed sensor noise, so a model that misses the data gets wide
     intervals) inflated by n / n_eff, the residual's effective sample size from its integrated
     autocorrelation time (systematic misfit is correlated, and counts as few samples):
-    C = σ̂² (JᵀJ)⁺ · n / n_eff, restricted to the directions the data constrain.
+    C = σ̂² (JᵀJ)⁺ · n / n_eff, restricted to the directions the data constrain. The muscle
+    model's own error (``model_error_nm``, RMS per sample; default :data:`MODEL_ERROR_RMS_NM`, as
+    measured against OpenSim) can bias the estimate by at most |a_k|·|δ| for parameter k (a_k the
+    row of the least-squares solution operator, |δ| = RMS·√n); the 95 % interval is
+    ±(1.96·SE + that bound).
 
     A parameter is *determined* when (1) the fit converged; (2) the residual is consistent with
     the measurement noise: its RMS is at most ``misfit_limit`` × the noise seen in the torque's
-    sample-to-sample differences (otherwise the report says the model does not fit well enough
-    to determine anything, and by how much); (3) its standard error is below ``rel_se_limit``
+    second differences (otherwise the report says the model does not fit well enough to determine
+    anything, and by how much); (3) its interval's half-width is below 1.96 × ``rel_se_limit``
     (3.5 %, the dissertation's accuracy); (4) no parameter of its muscle is at a bound; and (5)
     every parameter of its synergists (other muscles crossing the same joints with the same
     moment-arm signs) is determined too — otherwise they can share the load in ways the local
@@ -339,6 +348,7 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     import casadi as ca
 
     leg = leg or LegMuscles()
+    model_error_nm = MODEL_ERROR_RMS_NM if model_error_nm is None else model_error_nm
     names = list(result.parameters)
     values = np.array([result.parameters[n] for n in names])
     prel = ca.SX.sym("p", len(names))
@@ -348,12 +358,13 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     for t in trials:
         moment = _eliminate_tendons(*_muscles_moment(leg, t, q, par), [q, prel])
         model_u = -(moment + subject.gravity_moment_nm(t.joint, q, t.fixed_rad, ca.cos))
-        f = ca.Function("u", [q, prel], [model_u, ca.jacobian(model_u, prel)]).map(t.angle_rad[::stride].size)
-        u_pred, jac = f(t.angle_rad[::stride].reshape(1, -1), ca.repmat(ca.DM.ones(len(names)), 1,
-                                                                           t.angle_rad[::stride].size))
+        angle = _smoothed(t.angle_rad)[::stride]  # angle noise must not pass for torque misfit on steep curves
+        f = ca.Function("u", [q, prel], [model_u, ca.jacobian(model_u, prel)]).map(angle.size)
+        u_pred, jac = f(angle.reshape(1, -1), ca.repmat(ca.DM.ones(len(names)), 1, angle.size))
         rows.append(np.asarray(jac).reshape(-1, len(names)))  # the map lays the 1×k rows side by side
         residual_parts.append(np.asarray(u_pred).ravel() - t.torque_nm[::stride])
-        noise_parts.append(np.diff(t.torque_nm[::stride]) / np.sqrt(2.0))
+        # white noise from second differences (the smooth moment curve hardly has any): var(Δ²e) = 6σ²
+        noise_parts.append(np.diff(t.torque_nm, 2) / np.sqrt(6.0))
     j = np.vstack(rows)
     n, k = j.shape
     residual_rms = float(np.sqrt(np.mean(np.concatenate(residual_parts) ** 2)))
@@ -365,9 +376,15 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     keep = w > 1.0 / rel_se_limit**2
     cov = (vecs[:, keep] / w[keep]) @ vecs[:, keep].T
     se = np.sqrt(np.maximum(np.diag(cov), 0.0))
+    # the forward model's own error (against OpenSim, MODEL_ERROR_RMS_NM per sample) biases the fit
+    # by at most |a_k|·|δ| for parameter k (a_k: row k of the least-squares solution operator,
+    # restricted to the constrained directions; |δ| = RMS·√n): a bound added to the interval
+    solve_rows = (vecs[:, keep] / w[keep]) @ vecs[:, keep].T @ j.T / (sigma2 * n / max(n_eff, 1.0))
+    bias = np.sqrt(np.sum(solve_rows**2, axis=1)) * model_error_nm * np.sqrt(n)
     # a parameter is determined only if it has (almost) no part in the unconstrained directions
     free_part = np.sqrt(np.sum(vecs[:, ~keep] ** 2, axis=1)) if (~keep).any() else np.zeros(len(names))
-    determined = (se < rel_se_limit) & (free_part < 0.1)
+    half_width = 1.96 * se + bias
+    determined = (half_width < 1.96 * rel_se_limit) & (free_part < 0.1)
     misfit_ratio = residual_rms / max(noise, 1e-12)
     reasons = []
     if not result.success:
@@ -403,13 +420,23 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     return {"determined": [n for n, d in zip(names, determined) if d],
             "undetermined": [n for n, d in zip(names, determined) if not d],
             "relative_se": dict(zip(names, se.tolist())),
-            "ci95": {n: [values[k] * (1 - 1.96 * se[k]), values[k] * (1 + 1.96 * se[k])]
+            "ci95": {n: [values[k] * (1 - half_width[k]), values[k] * (1 + half_width[k])]
                      for k, n in enumerate(names) if determined[k]},
+            "model_error_bound_rel": dict(zip(names, bias.tolist())),
             "free_combinations": combos, "rank": int(keep.sum()), "parameters": len(names), "at_bound": at_bound,
             "residual_rms_nm": residual_rms, "noise_nm": noise, "misfit_ratio": misfit_ratio,
             "effective_samples": n_eff, "samples": n, "not_determined_because": reasons,
             "uncertainty": "least-squares covariance with the residual's variance, inflated by n/n_eff "
                            "(integrated autocorrelation time of the residual)"}
+
+
+def _smoothed(angle_rad: np.ndarray) -> np.ndarray:
+    """The sweep's angle with sensor noise averaged out (cubic Savitzky–Golay over ~1/20 of the trial)."""
+    from scipy.signal import savgol_filter
+
+    n = angle_rad.size
+    window = min(n - (1 - n % 2), max(5, (n // 20) | 1))
+    return savgol_filter(angle_rad, window, 3) if window > 3 else angle_rad
 
 
 def _autocorrelation_time(e: np.ndarray) -> float:

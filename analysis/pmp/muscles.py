@@ -82,9 +82,11 @@ class LegMuscles:
             return (float(passive_fiber_force(lm / lo, par.passive_strain)) * np.cos(alpha)
                     - float(tendon_force(l_t / ls, par.tendon_strain)))
 
-        hi = min(path_length_m - 1e-6, ls * (1.0 + 3.0 * par.tendon_strain))
+        hi = min(path_length_m - 1e-6, ls * (1.0 + 10.0 * par.tendon_strain))
         if residual(ls) <= 0:  # the fibre pulls less than a slack tendon can carry: tendon at slack
             l_t = ls
+        elif hi <= ls or residual(hi) > 0:  # the tendon as long as the path allows (force beyond the curve's use)
+            l_t = max(hi, ls)
         else:
             l_t = brentq(residual, ls, hi, xtol=1e-14, rtol=1e-14)
         lm, alpha = fibre(l_t)
