@@ -1,9 +1,11 @@
 """The trial CSV: ``time_s,angle_deg,torque_Nm[,more channels]`` plus a JSON sidecar of the same name.
 
-Sign convention: angle positive in dorsiflexion (AFO, ankle) or knee flexion; torque is what the
-specimen exerts against the bending (a linear spring reads torque = k × angle, k > 0). For knee
-and ankle trials the torque includes the weight of the segments distal to the joint; the
-dynamometer arm's own weight is already removed. The sidecar holds ``kind`` (afo, knee, ankle,
+Sign convention (the one place it is defined): angle positive in dorsiflexion (AFO, ankle) or
+knee flexion; ``torque_Nm`` is the torque applied to the specimen toward positive angle — by the
+dynamometer, the operator or the sensor — which is what the specimen resists with (a linear
+spring reads torque = k × angle, k > 0). For a passive limb moved slowly it is
+−(M_muscles + M_gravity), the estimator's control u. For knee and ankle trials it includes the
+weight of the segments distal to the joint; the dynamometer arm's own weight is already removed. The sidecar holds ``kind`` (afo, knee, ankle,
 replica), the fixed joint angles ``hip_flexion_deg``, ``knee_flexion_deg``,
 ``ankle_dorsiflexion_deg``, and ``subject`` (``mass_kg``, ``height_m``, ``thigh_length_m``,
 ``shank_length_m``, ...); more keys are allowed.

@@ -5,15 +5,16 @@ angle q and velocity v, the control is the dynamometer torque u, and the dynamic
 
     I q̈ = u + M_muscles(q; p) + M_gravity(q)
 
-(torque convention of the trial CSV: u is the torque the dynamometer applies toward positive
-angle once the arm's weight is removed, so a trial CSV's ``torque_Nm`` is −u at constant speed).
+(u is the torque the dynamometer applies toward positive angle once the arm's weight is
+removed: exactly a trial CSV's ``torque_Nm``, whose sign :mod:`analysis.trial_csv` defines).
 Hermite–Simpson collocation (states and controls at the nodes and interval midpoints) enforces
 the dynamics; the calf muscles' tendon lengths are algebraic variables held by the fibre–tendon
 equilibrium (eq 3.2) at every point. The cost is eq 3.8, Simpson-integrated over time:
 (q − q_m)²/σ_q² + (v − v_m)²/σ_v² + (u − u_m)²/σ_u² with σ_q = 0.5°, σ_v = 2 °/s, σ_u = 0.5 N·m
-(typical dynamometer noise), plus a weak pull toward the generic parameters (1e-3 per squared
-relative deviation) so that directions the data do not determine stay at the generic values
-instead of wandering; the identifiability report says which those are.
+(typical dynamometer noise), plus an explicit Gaussian prior about the (scaled) generic values
+(:data:`PRIOR_RELATIVE_SD`: slack lengths 5 %, strains 25 %, weighted :data:`PRIOR_WEIGHT`) so
+that directions the data do not determine stay near the generic model instead of wandering to
+absorb model error; the identifiability report says which those are.
 
 Parameters, shared by all trials given: tendon slack length of every muscle crossing a moving
 joint (bounds 0.6–1.25 × generic, :data:`SLACK_BOUNDS`; a tendon longer than its path is simply
@@ -37,7 +38,11 @@ G = 9.81
 SIGMA_Q_RAD = np.deg2rad(0.5)
 SIGMA_V_RAD_S = np.deg2rad(2.0)
 SIGMA_U_NM = 0.5
-REGULARISATION = 1e-3
+#: the prior of every parameter: Gaussian about its (scaled) generic value with these relative
+#: SDs — the spread between subjects the model assumes (slack lengths after scaling ±5 %, strains
+#: ±25 %) — and as much weight as PRIOR_WEIGHT of one trial's mean squared normalised error
+PRIOR_RELATIVE_SD = {"tendon_slack_length_m": 0.05, "passive_strain": 0.25, "tendon_strain": 0.25}
+PRIOR_WEIGHT = 0.01
 #: the residual may be at most this many times the measurement noise for anything to count as determined
 MISFIT_LIMIT = 3.0
 #: the muscle model's own error against OpenSim's passive moments at the true parameters (N·m,
@@ -282,7 +287,9 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
         err = ((q - qm) / SIGMA_Q_RAD) ** 2 + ((v - vm) / SIGMA_V_RAD_S) ** 2 + ((u * u_scale - um) / SIGMA_U_NM) ** 2
         cost = cost + ca.dot(ca.DM(w), err)
         outputs.append((t, tt, q, v, u, u_scale, qm, vm, um))
-    reg = REGULARISATION * ca.sumsqr(p_scaled - 1.0)
+    prior_sd = np.array([PRIOR_RELATIVE_SD[n.split(".")[1]] for n in pset.names]) if parameters is None \
+        else np.full(n_par, 0.1)
+    reg = PRIOR_WEIGHT * ca.sumsqr((p_scaled - 1.0) / ca.DM(prior_sd))
     opti.minimize(cost + reg)
     opti.solver("ipopt", {"print_time": False}, {"print_level": 0, "max_iter": max_iter, "tol": 1e-8,
                                                   "sb": "yes"})
@@ -366,12 +373,12 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
         # white noise from second differences (the smooth moment curve hardly has any): var(Δ²e) = 6σ²
         noise_parts.append(np.diff(t.torque_nm, 2) / np.sqrt(6.0))
     j = np.vstack(rows)
-    n, k = j.shape
+    n_samples, k = j.shape
     residual_rms = float(np.sqrt(np.mean(np.concatenate(residual_parts) ** 2)))
     noise = float(1.4826 * np.median(np.abs(np.concatenate(noise_parts))))  # robust σ of white noise
-    sigma2 = float(np.sum(np.concatenate(residual_parts) ** 2) / max(n - k, 1))
+    sigma2 = float(np.sum(np.concatenate(residual_parts) ** 2) / max(n_samples - k, 1))
     n_eff = float(sum(e.size / _autocorrelation_time(e) for e in residual_parts))
-    info = j.T @ j / (sigma2 * n / max(n_eff, 1.0))
+    info = j.T @ j / (sigma2 * n_samples / max(n_eff, 1.0))
     w, vecs = np.linalg.eigh(info)
     keep = w > 1.0 / rel_se_limit**2
     cov = (vecs[:, keep] / w[keep]) @ vecs[:, keep].T
@@ -379,8 +386,8 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     # the forward model's own error (against OpenSim, MODEL_ERROR_RMS_NM per sample) biases the fit
     # by at most |a_k|·|δ| for parameter k (a_k: row k of the least-squares solution operator,
     # restricted to the constrained directions; |δ| = RMS·√n): a bound added to the interval
-    solve_rows = (vecs[:, keep] / w[keep]) @ vecs[:, keep].T @ j.T / (sigma2 * n / max(n_eff, 1.0))
-    bias = np.sqrt(np.sum(solve_rows**2, axis=1)) * model_error_nm * np.sqrt(n)
+    solve_rows = (vecs[:, keep] / w[keep]) @ vecs[:, keep].T @ j.T / (sigma2 * n_samples / max(n_eff, 1.0))
+    bias = np.sqrt(np.sum(solve_rows**2, axis=1)) * model_error_nm * np.sqrt(n_samples)
     # a parameter is determined only if it has (almost) no part in the unconstrained directions
     free_part = np.sqrt(np.sum(vecs[:, ~keep] ** 2, axis=1)) if (~keep).any() else np.zeros(len(names))
     half_width = 1.96 * se + bias
@@ -425,7 +432,7 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
             "model_error_bound_rel": dict(zip(names, bias.tolist())),
             "free_combinations": combos, "rank": int(keep.sum()), "parameters": len(names), "at_bound": at_bound,
             "residual_rms_nm": residual_rms, "noise_nm": noise, "misfit_ratio": misfit_ratio,
-            "effective_samples": n_eff, "samples": n, "not_determined_because": reasons,
+            "effective_samples": n_eff, "samples": n_samples, "not_determined_because": reasons,
             "uncertainty": "least-squares covariance with the residual's variance, inflated by n/n_eff "
                            "(integrated autocorrelation time of the residual)"}
 

@@ -110,15 +110,23 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24) -> di
 def text(report: dict[str, Any]) -> str:
     res: PmpResult = report["result"]
     idf = report["identifiability"]
-    lines = [f"fit: {res.status}, {res.iterations} iterations, {res.solve_s:.1f} s, cost {res.cost:.3f}",
+    head = (f"fit: {res.status}, {res.iterations} iterations, {res.solve_time_s:.1f} s, cost {res.cost:.3f}" if res.success
+            else f"fit DID NOT CONVERGE: {res.message}; the values below are the last iterate, not estimates")
+    lines = [head, f"residual {idf['residual_rms_nm']:.3g} N·m RMS against measurement noise {idf['noise_nm']:.3g} "
+                   f"N·m ({idf['misfit_ratio']:.1f}×; {idf['effective_samples']:.0f} effective of {idf['samples']} "
+                   "samples)",
              f"{'parameter':<34}{'generic':>9}{'estimate':>10}   95 % interval / status"]
     for n, v in res.parameters.items():
         if n in idf["determined"]:
             lo, hi = idf["ci95"][n]
             status = f"[{lo:.4g}, {hi:.4g}]"
+        elif n in idf.get("at_bound", []):
+            status = "not determined: at its bound"
         else:
-            status = "not determined by these trials (shown at the fit's value, not a measurement)"
+            status = "not determined by these trials (the fit's value, not a measurement)"
         lines.append(f"{n:<34}{res.generic[n]:>9.4g}{v:>10.4g}   {status}")
+    for why in idf.get("not_determined_because", []):
+        lines.append(f"NOTHING DETERMINED: {why}")
     for c in idf["free_combinations"][:4]:
         comp = " ".join(f"{w:+.2f}·{k}" for k, w in c["components"].items())
         lines.append(f"  free combination: {comp}")
@@ -138,7 +146,8 @@ def text(report: dict[str, Any]) -> str:
 def to_json(report: dict[str, Any]) -> dict[str, Any]:
     res: PmpResult = report["result"]
     return {"parameters": res.parameters, "generic": res.generic, "lower": res.lower, "upper": res.upper,
-            "cost": res.cost, "iterations": res.iterations, "solve_s": res.solve_s,
+            "cost": res.cost, "iterations": res.iterations, "solve_time_s": res.solve_time_s,
+            "success": res.success, "message": res.message,
             "identifiability": report["identifiability"], "stiffness": report["stiffness"],
             "slack_per_shank_length": report["slack_per_shank_length"],
             "forward_dynamics": [{"trial": v.name, "angle_rmse_deg": v.angle_rmse_deg,

@@ -601,14 +601,14 @@ def analyse_set(protocol: TrialProtocol, store_root: Any, trial_id: int, subject
 
             result, truth, _ = analyze_replica(tables, [read_trial(t.path).metadata for t in same], None, None)
             return text(result, truth) + ("\ndiagnosis: " + diag if diag else "")
-        from analysis.errors import FitError
+        from analysis.errors import AnalysisError
         from analysis.pmp.report import analyse, subject_from, text as pmp_text, trial_from_table
 
-        try:
+        try:  # a fit that does not converge says so in its own text (success=False)
             report = analyse([trial_from_table(t) for t in tables], subject_from(subject), intervals=16)
             fitted = pmp_text(report)
-        except FitError as err:  # say so, and still show what the diagnosis found
-            fitted = f"passive-parameter fit did not converge on this set ({str(err)[-120:]})"
+        except AnalysisError as err:  # missing anthropometrics, a rejected trial, ...: say so, show the diagnosis
+            fitted = f"passive parameters not fitted: {err}"
         return fitted + ("\ndiagnosis: " + diag if diag else "")
     finally:
         store.close()
