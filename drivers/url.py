@@ -1,7 +1,8 @@
 """Device URLs, as pyserial's ``serial_for_url`` takes them.
 
 ``scheme://[host[:port]][/path]?key=value&...``. The scheme picks the back end from a
-per-device-kind table; the rest is handed to it. Unknown query keys are an error, so a typo
+per-device-kind table; the rest is handed to it, with the host's case and the path's leading
+slash kept (``pcan://PCAN_USBBUS1``, ``slcan:///dev/ttyACM0``). Unknown query keys are an error, so a typo
 in a lab's configuration never passes silently.
 """
 
@@ -28,15 +29,23 @@ class DeviceUrl:
     @classmethod
     def parse(cls, url: str) -> "DeviceUrl":
         """Parse ``url``; raises ``ValueError`` if it has no scheme."""
-        parts = urlsplit(url)
-        if not parts.scheme:
+        scheme, sep, rest = url.partition("://")
+        if not sep or not scheme:
             raise ValueError(f"device URL {url!r} has no scheme (expected e.g. 'virtual://dyno')")
+        # the scheme is split off by hand: python-can's interface names (udp_multicast) are not
+        # RFC 3986 schemes, and urlsplit would refuse them
+        parts = urlsplit("x://" + rest)
+        netloc = parts.netloc.rsplit("@", 1)[-1]
+        host, port = netloc, None
+        if netloc.count(":") == 1 and netloc.rsplit(":", 1)[1].isdigit():
+            host, port_text = netloc.rsplit(":", 1)
+            port = int(port_text)
         query = dict(parse_qsl(parts.query, keep_blank_values=True))
         return cls(
-            scheme=parts.scheme.lower(),
-            host=parts.hostname or "",
-            port=parts.port,
-            path=parts.path,
+            scheme=scheme.lower(),
+            host=host,  # case kept: PCAN_USBBUS1 is not pcan_usbbus1
+            port=port,
+            path=parts.path,  # leading slash kept: slcan:///dev/ttyACM0 is /dev/ttyACM0
             query=query,
             text=url,
         )

@@ -178,5 +178,11 @@ def open_dynamometer(url: str, **kwargs: Any) -> Dynamometer:
     :raises DeviceNotAvailableError: unknown interface or python-can back end not importable.
     """
     parsed = DeviceUrl.parse(url)
-    cls = load_backend(BACKENDS, parsed, "dynamometer")
+    table = BACKENDS
+    if parsed.scheme not in table:  # any interface python-can knows, by its own name
+        import can
+
+        if parsed.scheme in can.VALID_INTERFACES:
+            table = {**BACKENDS, parsed.scheme: _CAN}
+    cls = load_backend(table, parsed, "dynamometer")
     return cls.from_url(parsed, **kwargs)

@@ -64,7 +64,7 @@ class CanDynamometer(Dynamometer):
     @classmethod
     def from_url(cls, url: DeviceUrl, **kwargs: Any) -> "CanDynamometer":
         opts = url.take({"node": int, "rate": int, "bitrate": int})
-        channel = url.host or url.path.lstrip("/") or "0"
+        channel = url.host or url.path or "0"  # a device path keeps its leading slash
         return cls(url.scheme, channel, **{**opts, **kwargs})
 
     # -- link

@@ -46,3 +46,14 @@ def test_unreachable_device_is_an_initialisation_error() -> None:
     sensor = open_torque_sensor("modbus-rtu+socket://127.0.0.1:9?timeout=0.05")
     with pytest.raises(DeviceInitializationError):
         sensor.open()
+
+
+@pytest.mark.parametrize("url, channel", [
+    ("slcan:///dev/ttyACM0", "/dev/ttyACM0"),        # a device path keeps its leading slash
+    ("pcan://PCAN_USBBUS1", "PCAN_USBBUS1"),         # channel names keep their case
+    ("udp_multicast://239.74.163.2", "239.74.163.2"),  # python-can's own interface names
+    ("socketcan://can0?node=16", "can0"),
+])
+def test_can_urls_reach_python_can_as_written(url: str, channel: str) -> None:
+    dyno = open_dynamometer(url)
+    assert dyno.channel == channel and dyno.interface == url.split("://")[0]
