@@ -63,6 +63,8 @@ class ModbusTorqueSensor(TorqueSensor):
             raise ValueError(f"baud {baud} not one of {sorted(r.BAUD_CODES.values())}")
         self.port, self.framing, self.unit, self.baud = port, framing, unit, baud
         self.word_order: r.WordOrder = word_order
+        #: True once the transmitter's own word-order register agreed with ``word_order``
+        self.word_order_confirmed = False
         self.read_speed = read_speed
         self.registers = registers
         self.timeout_s = timeout_s
@@ -132,6 +134,24 @@ class ModbusTorqueSensor(TorqueSensor):
             self._close_internal()
             raise DeviceInitializationError(f"{self.name}: unit {self.unit} on {self.port} does not answer")
         self.zero_offset_nm = r.decode_float(regs, self.word_order)
+        self._check_word_order()
+
+    def _check_word_order(self) -> None:
+        """Refuse to open with a float word order the transmitter says it does not use: a wrong one
+        reads 1.5 N·m as 516607 N·m, silently. A transmitter without the register is taken at the
+        URL's word."""
+        published = self._read_registers(self.registers.word_order, 1)
+        if published is None:
+            self.word_order_confirmed = False
+            return
+        device = {0: "big", 1: "little"}.get(published[0])
+        if device != self.word_order:
+            self._close_internal()
+            raise DeviceInitializationError(
+                f"{self.name}: the transmitter publishes float word order "
+                f"{device or f'code {published[0]}'} (register 0x{self.registers.word_order:04x}) but this "
+                f"driver was opened with word_order={self.word_order}; set word_order={device} in its URL")
+        self.word_order_confirmed = True
 
     def _close_internal(self) -> None:
         if self._client is not None:

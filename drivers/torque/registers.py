@@ -77,3 +77,4 @@ class RegisterMap:
     baud_code: int = BAUD_CODE
     tare: int = TARE
     zero_offset: int = ZERO_OFFSET
+    word_order: int = WORD_ORDER

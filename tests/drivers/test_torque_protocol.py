@@ -46,6 +46,7 @@ def test_exact_bytes_open_poll_and_tare() -> None:
     zero = rtu("010304" + "00000000")
     pairs = [
         (rtu("010300210002"), zero),                          # open: read the zero offset
+        (rtu("010300160001"), rtu("010302" + "0000")),        # open: the word order it publishes (big)
         (rtu("010300000002"), rtu("010304" + "3fc00000")),    # poll torque: 1.5 N·m, big word order
         (rtu("010600200001"), rtu("010600200001")),           # tare: write 1 to 0x0020, echoed
         (rtu("010300210002"), rtu("010304" + "3fc00000")),    # read back the new zero: 1.5 N·m
@@ -61,6 +62,7 @@ def test_exact_bytes_open_poll_and_tare() -> None:
 
 def test_little_word_order_and_other_unit() -> None:
     pairs = [(rtu("070300210002"), rtu("070304" + "00000000")),
+             (rtu("070300160001"), rtu("070302" + "0001")),   # publishes little
              (rtu("070300000002"), rtu("070304" + "0000" + "c010"))]
     with expected_protocol(pairs) as peer:
         sensor = open_torque_sensor(f"modbus-rtu+socket://127.0.0.1:{peer.port}?unit=7&word_order=little")
@@ -72,7 +74,8 @@ def test_little_word_order_and_other_unit() -> None:
 def test_bad_crc_reply_is_counted_and_typed() -> None:
     reply = bytearray(rtu("010304" + "3fc00000"))
     reply[-1] ^= 0xFF
-    pairs = [(rtu("010300210002"), rtu("010304" + "00000000")), (rtu("010300000002"), bytes(reply))]
+    pairs = [(rtu("010300210002"), rtu("010304" + "00000000")), (rtu("010300160001"), rtu("010302" + "0000")),
+             (rtu("010300000002"), bytes(reply))]
     with expected_protocol(pairs) as peer:
         sensor = open_torque_sensor(f"modbus-rtu+socket://127.0.0.1:{peer.port}?timeout=0.1")
         sensor.open()
@@ -83,7 +86,8 @@ def test_bad_crc_reply_is_counted_and_typed() -> None:
 
 
 def test_exception_response_is_typed() -> None:
-    pairs = [(rtu("010300210002"), rtu("010304" + "00000000")), (rtu("010300000002"), rtu("018302"))]
+    pairs = [(rtu("010300210002"), rtu("010304" + "00000000")), (rtu("010300160001"), rtu("010302" + "0000")),
+             (rtu("010300000002"), rtu("018302"))]
     with expected_protocol(pairs) as peer:
         sensor = open_torque_sensor(f"modbus-rtu+socket://127.0.0.1:{peer.port}")
         sensor.open()
@@ -94,7 +98,7 @@ def test_exception_response_is_typed() -> None:
 
 
 def test_a_valid_crc_reply_with_the_wrong_register_count_is_a_counted_bad_frame() -> None:
-    pairs = [(rtu("010300210002"), rtu("010304" + "00000000")),
+    pairs = [(rtu("010300210002"), rtu("010304" + "00000000")), (rtu("010300160001"), rtu("010302" + "0000")),
              (rtu("010300000002"), rtu("010302" + "3fc0")),            # one register where two were asked
              (rtu("010300000002"), rtu("010304" + "3fc00000"))]        # the next poll is fine
     with expected_protocol(pairs) as peer:
@@ -104,4 +108,24 @@ def test_a_valid_crc_reply_with_the_wrong_register_count_is_a_counted_bad_frame(
             sensor.read_torque_nm()
         assert sensor.stats.malformed_frames == 1
         assert sensor.read_torque_nm() == 1.5  # the driver (and its link) carry on
+        sensor.close()
+
+
+def test_a_word_order_the_transmitter_does_not_use_is_refused_at_open() -> None:
+    from drivers.errors import DeviceInitializationError
+
+    pairs = [(rtu("010300210002"), rtu("010304" + "00000000")), (rtu("010300160001"), rtu("010302" + "0001"))]
+    with expected_protocol(pairs) as peer:
+        sensor = open_torque_sensor(f"modbus-rtu+socket://127.0.0.1:{peer.port}?word_order=big")
+        with pytest.raises(DeviceInitializationError, match="word_order=little"):
+            sensor.open()
+
+
+def test_a_transmitter_without_the_word_order_register_is_taken_at_the_urls_word() -> None:
+    pairs = [(rtu("010300210002"), rtu("010304" + "00000000")), (rtu("010300160001"), rtu("018302")),
+             (rtu("010300000002"), rtu("010304" + "3fc00000"))]
+    with expected_protocol(pairs) as peer:
+        sensor = open_torque_sensor(f"modbus-rtu+socket://127.0.0.1:{peer.port}")
+        sensor.open()
+        assert not sensor.word_order_confirmed and sensor.read_torque_nm() == 1.5
         sensor.close()
