@@ -172,3 +172,17 @@ def test_out_of_range_record_arguments_are_usage_errors(argv, tmp_path: Path, ca
     assert info.value.code == 2
     assert "outside" in capsys.readouterr().err
     assert not (tmp_path / "s").exists()
+
+
+@pytest.mark.parametrize("offset", [0, 700, 2048, -600])
+def test_a_bit_flipped_trial_file_is_one_line_and_stays_as_it_was(recorded, tmp_path: Path, capsys,
+                                                                   offset: int) -> None:
+    store_dir, tid, path = recorded
+    blob = bytearray(path.read_bytes())
+    for k in range(64):  # a burst of flipped bits
+        blob[offset + k] ^= 0xA5
+    path.write_bytes(bytes(blob))
+    code = cli_main(["export", "--store", str(store_dir), str(tid), "--format", "csv", "-o", str(tmp_path / "x.csv")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code in (0, 1) and (code == 0 or (len(err) == 1 and err[0].startswith("error:")))
+    assert path.read_bytes() == bytes(blob)
