@@ -26,7 +26,18 @@ from typing import Any
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-MODEL = Path(__file__).resolve().parents[2] / "shared" / "models" / "Rajagopal2016.osim"
+def _find_model() -> Path:
+    """The generic model beside the repo (``../shared/models``), the workspace's shared copy, or
+    ``INSTRUMENT_OSIM_MODEL``; the first that exists (else the first candidate, reported missing)."""
+    import os
+
+    candidates = [Path(os.environ["INSTRUMENT_OSIM_MODEL"])] if os.environ.get("INSTRUMENT_OSIM_MODEL") else []
+    candidates += [Path(__file__).resolve().parents[2] / "shared" / "models" / "Rajagopal2016.osim",
+                   Path("/work/shared/models/Rajagopal2016.osim")]
+    return next((c for c in candidates if c.exists()), candidates[0])
+
+
+MODEL = _find_model()
 MUSCLES = ("bflh", "bfsh", "gaslat", "gasmed", "soleus", "semimem", "semiten", "vasint", "vaslat", "vasmed", "recfem")
 CALF = ("soleus", "gasmed", "gaslat")
 KNEE_MUSCLES = tuple(m for m in MUSCLES if m not in ("soleus",))

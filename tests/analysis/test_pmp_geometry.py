@@ -2,15 +2,12 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 
 from analysis.pmp.geometry import MUSCLES, load_paths
+from benchmarks.opensim_truth import MODEL  # the one place that finds the generic model
 from tests.opensim_reference import run_opensim
-
-MODEL = Path(__file__).resolve().parents[3] / "shared" / "models" / "Rajagopal2016.osim"
 #: stated accuracy of the committed fit against OpenSim (mm): lengths, and moment arms from
 #: computeMomentArm (fitted on their own, so the gastrocnemius wrap no longer blurs them)
 LENGTH_MAX_MM = 0.5
