@@ -8,6 +8,7 @@ import pytest
 from analysis.pmp.geometry import MUSCLES, load_paths
 from benchmarks.opensim_truth import MODEL  # the one place that finds the generic model
 from tests.opensim_reference import run_opensim
+
 #: stated accuracy of the committed fit against OpenSim (mm): lengths, and moment arms from
 #: computeMomentArm (fitted on their own, so the gastrocnemius wrap no longer blurs them)
 LENGTH_MAX_MM = 0.5
