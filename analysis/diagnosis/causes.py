@@ -93,6 +93,10 @@ class Cause:
     #: or an array (k, parameters) of explicit combinations
     grid: Callable[[Prepared], "list[np.ndarray] | np.ndarray"] = field(default=lambda p: [])
     transient: bool = False  # a local event: held-out blocks cannot predict it
+    #: physical sign of each extra column's coefficient (+1: ≥ 0, −1: ≤ 0, 0: free). Torque is the
+    #: resistance of the specimen (see analysis.trial_csv), so passive losses and stops add to it:
+    #: a negative damping or friction, or a stop that pulls, is not a passive cause
+    signs: tuple[int, ...] = ()
 
 
 def _plain(prep: Prepared, extra: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -145,10 +149,10 @@ CAUSES: dict[str, Cause] = {c.name: c for c in [
           lambda p, nl: _plain(p), lambda c, nl: {}),
     Cause("coulomb_friction", "constant torque opposing motion (hysteresis of constant width)", ("afo", "knee", "ankle"),
           lambda p, nl: _plain(p, np.tanh(p.omega / FRICTION_SPEED_RAD_S)),
-          lambda c, nl: {"friction_Nm": float(c[0])}, "friction_Nm"),
+          lambda c, nl: {"friction_Nm": float(c[0])}, "friction_Nm", signs=(1,)),
     Cause("viscous_damping", "torque proportional to angular velocity (hysteresis growing with speed)",
           ("afo", "knee", "ankle"), lambda p, nl: _plain(p, p.omega),
-          lambda c, nl: {"damping_Nm_s_per_rad": float(c[0])}, "damping_Nm_s_per_rad"),
+          lambda c, nl: {"damping_Nm_s_per_rad": float(c[0])}, "damping_Nm_s_per_rad", signs=(1,)),
     Cause("series_compliance", "a compliant element in series (apparent stiffness falling with load)",
           ("afo", "knee", "ankle"), _compliant,
           lambda c, nl: {"compliance_deg_per_Nm": float(np.rad2deg(nl[0])),
@@ -158,7 +162,7 @@ CAUSES: dict[str, Cause] = {c.name: c for c in [
     Cause("hard_stop", "added stiffness past a stop angle", ("afo", "knee", "ankle", "replica"),
           lambda p, nl: _plain(p, np.maximum(p.theta - nl[0], 0.0)),
           lambda c, nl: {"stop_angle_deg": float(np.rad2deg(nl[0])), "stop_stiffness_Nm_per_deg": float(np.deg2rad(c[0]))},
-          "stop_stiffness_Nm_per_deg", _stop_grid),
+          "stop_stiffness_Nm_per_deg", _stop_grid, signs=(1,)),
     Cause("activation_burst", "transient active torque that passive tissue cannot produce", ("knee", "ankle"),
           lambda p, nl: _plain(p, _burst(p.t, nl[0], nl[1])),
           lambda c, nl: {"burst_amplitude_Nm": float(c[0]), "burst_start_s": float(nl[0]), "burst_duration_s": float(nl[1])},
@@ -226,7 +230,12 @@ def compound(first: Cause, second: Cause) -> Cause:
                 **second.report(c[_ext_count(first):], nl[_nl_count(first):])}
 
     return Cause(f"{first.name}+{second.name}", f"{first.description}; and {second.description}",
-                 first.kinds, columns, report, "", grid, first.transient or second.transient)
+                 first.kinds, columns, report, "", grid, first.transient or second.transient,
+                 _signs(first) + _signs(second))
+
+
+def _signs(cause: Cause) -> tuple[int, ...]:
+    return cause.signs if cause.signs else (0,) * _ext_count(cause)
 
 
 def _ext_count(cause: Cause) -> int:

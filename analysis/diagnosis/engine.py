@@ -70,6 +70,14 @@ def _solve(prep: Prepared, cause: Cause, nl: tuple[float, ...], mask: np.ndarray
             raise np.linalg.LinAlgError
     except np.linalg.LinAlgError:
         coef, *_ = np.linalg.lstsq(xs, y, rcond=None)
+    signs = np.zeros(x.shape[1])
+    signs[base.shape[1]:base.shape[1] + len(cause.signs)] = cause.signs
+    if np.any(signs * coef < 0):  # a passive cause with the wrong sign: the best physical fit instead
+        from scipy.optimize import lsq_linear
+
+        lower = np.where(signs > 0, 0.0, -np.inf)
+        upper = np.where(signs < 0, 0.0, np.inf)
+        coef = lsq_linear(xs, y, bounds=(lower, upper), method="bvls").x
     coef = coef / scale
     pred = x @ coef
     rss = float(np.sum((prep.target[use] - pred[use]) ** 2))

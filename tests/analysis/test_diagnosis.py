@@ -147,3 +147,24 @@ def test_standard_errors_cover_the_truth_and_systematic_regions_are_marked() -> 
     assert inside >= 8, inside
     clean = diagnose(make_trial("afo", "none", 300)[0])
     assert len(clean.systematic) <= 1
+
+
+@pytest.mark.parametrize("delay_s", [0.03, 0.08])
+def test_passive_causes_keep_their_physical_sign_on_a_delayed_torque(delay_s: float) -> None:
+    """A torque channel lagging the angle leans the loop the way negative damping would; damping,
+    friction and a stop are passive, so their fitted coefficients stay ≥ 0 (written here: a
+    triangle-wave bend of a plain spring, the torque read late, independent of the diagnosis' own
+    generator)."""
+    from analysis.diagnosis.causes import CAUSES, Prepared
+    from analysis.diagnosis.engine import fit_cause
+
+    rng = np.random.default_rng(3)
+    t = np.arange(0.0, 12.0, 0.01)
+    angle = np.deg2rad(10.0) * (1 - np.abs(((t / 3.0) % 2) - 1) * 2) + np.deg2rad(10.0)  # 0–20°, 3 s strokes
+    late = np.interp(t - delay_s, t, angle)
+    torque = 40.0 * late + rng.normal(0.0, 0.05, t.size)  # 0.7 N·m/° spring
+    prep = Prepared.of(DiagnosisTrial("afo", t, angle, torque, {}, {}, "delayed spring"))
+    for name in ("viscous_damping", "coulomb_friction", "hard_stop"):
+        fit = fit_cause(prep, CAUSES[name])
+        extension = fit.coef[fit.n_base:]
+        assert extension.size == 1 and extension[0] >= 0.0, (name, fit.params)
