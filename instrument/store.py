@@ -190,6 +190,8 @@ class SessionStore:
             else:
                 try:
                     (self.root / "trials").mkdir(parents=True, exist_ok=True)
+                    if not os.access(self.root, os.W_OK):  # a read-only medium (EROFS), even for root
+                        raise StoreReadOnlyError(f"{self.root}: the store's folder cannot be written")
                     self._db = sqlite3.connect(db, check_same_thread=False, timeout=10.0)
                     self._db.execute("PRAGMA journal_mode=WAL")
                 except (OSError, sqlite3.OperationalError) as err:

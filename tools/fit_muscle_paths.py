@@ -4,7 +4,7 @@
 
 Needs OpenSim (``pip install 'afo-gait-instrument[opensim]'``). For each muscle, the coordinates
 it crosses are found from its moment arms; its length is sampled on a grid over the seated
-ranges (hip −10…100°, knee 0…105° flexion, ankle −40…30° dorsiflexion) and fitted by weighted
+ranges (hip −10…100°, knee 0…94° flexion (below the patella mechanism's kink at 95.5°, which a polynomial would ring around), ankle −40…30° dorsiflexion) and fitted by weighted
 least squares with a polynomial of total degree ``--degree`` in those angles (radians), to the
 lengths, and each moment arm from ``computeMomentArm`` by its own polynomial on the same basis:
 OpenSim's moment arm is not −∂L/∂q of its ``getLength`` where the coupled knee or a wrapping
@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 MUSCLES = ["bflh", "bfsh", "gaslat", "gasmed", "soleus", "semimem", "semiten", "vasint", "vaslat", "vasmed", "recfem"]
-COORDS = {"hip": ("hip_flexion_r", -10.0, 100.0, 12), "knee": ("knee_angle_r", 0.0, 105.0, 22),
+COORDS = {"hip": ("hip_flexion_r", -10.0, 100.0, 12), "knee": ("knee_angle_r", 0.0, 94.0, 24),
           "ankle": ("ankle_angle_r", -40.0, 30.0, 11)}
 
 

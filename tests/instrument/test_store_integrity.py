@@ -186,3 +186,26 @@ def test_a_bit_flipped_trial_file_is_one_line_and_stays_as_it_was(recorded, tmp_
     err = capsys.readouterr().err.strip().splitlines()
     assert code in (0, 1) and (code == 0 or (len(err) == 1 and err[0].startswith("error:")))
     assert path.read_bytes() == bytes(blob)
+
+
+def test_a_store_on_read_only_media_lists_and_exports(recorded, tmp_path: Path, capsys) -> None:
+    """A real read-only mount (bind, ro) where this host allows one (root); skipped elsewhere."""
+    import os
+    import subprocess as sp
+
+    store_dir, tid, _ = recorded
+    mnt = tmp_path / "ro"
+    mnt.mkdir()
+    if os.geteuid() != 0 or sp.run(["mount", "--bind", str(store_dir), str(mnt)], capture_output=True).returncode:
+        pytest.skip("needs root and mount to make read-only media")
+    try:
+        if sp.run(["mount", "-o", "remount,bind,ro", str(mnt)], capture_output=True).returncode:
+            pytest.skip("cannot remount read-only here")
+        assert cli_main(["sessions", "--store", str(mnt)]) == 0
+        out = tmp_path / "export.csv"
+        # a knee trial without dynamometer data: the export itself refuses, but as a data error
+        code = cli_main(["export", "--store", str(mnt), str(tid), "--format", "csv", "-o", str(out)])
+        err = capsys.readouterr().err
+        assert code == 1 and "read-only" not in err and "readonly" not in err, err
+    finally:
+        sp.run(["umount", str(mnt)], capture_output=True)
