@@ -4,8 +4,9 @@
 
 Needs OpenSim (``pip install 'afo-gait-instrument[opensim]'``). For each muscle, the coordinates
 it crosses are found from its moment arms; its length is sampled on a grid over the seated
-ranges (hip −10…100°, knee 0…94° flexion (below the patella mechanism's kink at 95.5°, which a polynomial would ring around), ankle −40…30° dorsiflexion) and fitted by weighted
-least squares with a polynomial of total degree ``--degree`` in those angles (radians), to the
+ranges (hip −10…100°, knee 0…94° flexion — below the kink the patella mechanism puts in the
+moment arms at 95.5°, which a polynomial would ring around — ankle −40…30° dorsiflexion) and
+fitted by least squares with a polynomial of total degree ``--degree`` in those angles (radians), to the
 lengths, and each moment arm from ``computeMomentArm`` by its own polynomial on the same basis:
 OpenSim's moment arm is not −∂L/∂q of its ``getLength`` where the coupled knee or a wrapping
 surface kinks the path (the gastrocnemius near full extension: up to 17 mm apart), and OpenSim's

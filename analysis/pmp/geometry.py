@@ -107,6 +107,11 @@ def _data(name: str) -> dict[str, Any]:
     return json.loads(resources.files(__package__).joinpath("data", name).read_text(encoding="utf-8"))
 
 
+def path_ranges_deg(name: str = "rajagopal2016_paths.json") -> dict[str, tuple[float, float]]:
+    """The joint ranges (deg) the paths were fitted over: outside them the polynomials extrapolate."""
+    return {k: (float(v[0]), float(v[1])) for k, v in _data(name)["ranges_deg"].items()}
+
+
 def model_segment_lengths_m(name: str = "rajagopal2016_paths.json") -> dict[str, float]:
     """The generic model's own segment lengths between joint centres (m): thigh (hip–knee) and
     shank (knee–ankle), read from the ``.osim`` by the fitting tool. They are the reference of
@@ -122,4 +127,4 @@ def fit_errors() -> dict[str, dict[str, float]]:
     return {m: dict(p.fit) for m, p in load_paths().items()}
 
 
-__all__ = ["MUSCLES", "JOINTS", "MusclePath", "load_paths", "fit_errors", "model_segment_lengths_m"]
+__all__ = ["MUSCLES", "JOINTS", "MusclePath", "load_paths", "fit_errors", "model_segment_lengths_m", "path_ranges_deg"]

@@ -12,10 +12,13 @@ import numpy as np
 from ..trial_csv import SUBJECT_RANGES, TrialTable
 from ..errors import InputError
 from .estimator import PmpResult, PmpTrial, Subject, estimate, identifiability
+from .geometry import path_ranges_deg
 from .muscles import COMPLIANT, LegMuscles, scale_for_subject
 from .stiffness import achilles_stiffness_kn_per_m, muscle_stiffness_n_per_m, tendon_stiffness_n_per_m
 from .verify import forward_dynamics
 
+#: how far (deg) a trial may leave the muscle paths' fitted range
+RANGE_MARGIN_DEG = 2.0
 #: the least sweep (deg) a trial must cover to fit passive moments
 MIN_SWEEP_DEG = 5.0
 
@@ -47,6 +50,11 @@ def trial_from_table(table: TrialTable) -> PmpTrial:
     ok = np.isfinite(table.angle_deg) & np.isfinite(table.torque_nm) & np.isfinite(table.time_s)
     if ok.sum() < 10:
         raise InputError(f"{kind} trial has {int(ok.sum())} rows with a finite angle and torque; at least 10 needed")
+    lo, hi = path_ranges_deg()[kind]
+    outside = (table.angle_deg[ok] < lo - RANGE_MARGIN_DEG) | (table.angle_deg[ok] > hi + RANGE_MARGIN_DEG)
+    if outside.any():
+        raise InputError(f"{kind} trial reaches {table.angle_deg[ok][outside][0]:.1f}°, outside the muscle paths' "
+                         f"fitted range {lo:g}..{hi:g}° (tools/fit_muscle_paths.py): cut the trial to it")
     t = table.time_s[ok]
     q = np.deg2rad(table.angle_deg[ok])
     sweep_deg = float(np.ptp(table.angle_deg[ok]))

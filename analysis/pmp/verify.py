@@ -65,8 +65,11 @@ def forward_dynamics(trial: PmpTrial, subject: Subject, parameters: dict[str, fl
     step = ca.Function("step", [x, ca.vertcat(u0, u1, dt)], [state])
     n = trial.time_s.size
     inputs = np.vstack([trial.torque_nm[:-1], trial.torque_nm[1:], np.diff(trial.time_s)])
-    path = step.mapaccum(n - 1)(ca.DM([trial.angle_rad[0], trial.velocity_rad_s[0]]), inputs)
-    q_sim = np.concatenate([[trial.angle_rad[0]], np.asarray(path)[0]])
+    try:
+        path = step.mapaccum(n - 1)(ca.DM([trial.angle_rad[0], trial.velocity_rad_s[0]]), inputs)
+        q_sim = np.concatenate([[trial.angle_rad[0]], np.asarray(path)[0]])
+    except RuntimeError:  # the simulated leg left the range where the calf equilibrium has a solution
+        q_sim = np.full(n, np.nan)
     if not np.all(np.isfinite(q_sim)):
         q_sim = np.full(n, np.nan)
     holding = ca.Function("u", [q], [-moment]).map(n)
