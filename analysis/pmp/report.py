@@ -63,7 +63,8 @@ def trial_from_table(table: TrialTable) -> PmpTrial:
                          "is needed to fit passive moments")
     v = (np.deg2rad(table.columns["velocity_deg_s"][ok]) if "velocity_deg_s" in table.columns
          and np.isfinite(table.columns["velocity_deg_s"][ok]).all() else np.gradient(q, t))
-    name = f"{kind} " + (f"hip {side.get('hip_flexion_deg')}°" if kind == "knee" else f"knee {side.get('knee_flexion_deg')}°")
+    name = f"{kind} " + (f"hip {float(side['hip_flexion_deg']):.3g}°" if kind == "knee"
+                         else f"knee {float(side['knee_flexion_deg']):.3g}°")
     dropped = int((~ok).sum())
     if dropped:
         name += f" ({dropped} rows without angle or torque left out)"
