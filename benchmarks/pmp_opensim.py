@@ -41,8 +41,10 @@ def forward_model_rmse(trials: list[Any], truth: dict[str, dict[str, float]]) ->
     return out
 
 
-def one_subject(seed: int, generic: dict[str, dict[str, float]], variant: str = "base",
-                intervals: int = 30) -> dict[str, Any]:
+def fit_subject(seed: int, generic: dict[str, dict[str, float]], variant: str = "base",
+                intervals: int = 30) -> tuple[dict[str, dict[str, float]], list[Any], Any, dict[str, Any], float]:
+    """Draw a subject, let OpenSim make its six sweeps, fit them: (truth, made trials, result,
+    identifiability, fit wall time s)."""
     truth = draw_truth(seed, generic)
     made = make_trials(truth, seed, variant=variant, shank_m=SHANK_M)
     trials = [PmpTrial(t.joint, t.fixed_rad, t.time_s, t.angle_rad, t.velocity_rad_s, t.torque_nm, t.name)
@@ -52,12 +54,16 @@ def one_subject(seed: int, generic: dict[str, dict[str, float]], variant: str = 
     t0 = time.perf_counter()
     res = estimate(trials, subject, leg=leg, intervals=intervals)
     idf = identifiability(res, trials, subject, leg=leg)
-    wall = time.perf_counter() - t0
+    return truth, made, res, idf, time.perf_counter() - t0
+
+
+def one_subject(seed: int, generic: dict[str, dict[str, float]], variant: str = "base",
+                intervals: int = 30) -> dict[str, Any]:
+    truth, made, res, idf, wall = fit_subject(seed, generic, variant, intervals)
     rows = []
     for name in idf["determined"]:
         muscle, what = name.split(".")
-        true = truth[muscle][{"tendon_slack_length_m": "tendon_slack_length_m", "passive_strain": "passive_strain",
-                              "tendon_strain": "tendon_strain"}[what]]
+        true = truth[muscle][what]
         lo, hi = idf["ci95"][name]
         rows.append({"parameter": name, "truth": true, "estimate": res.parameters[name],
                      "error_pct": 100 * (res.parameters[name] - true) / true, "covered": bool(lo <= true <= hi),
