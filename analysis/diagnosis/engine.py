@@ -72,12 +72,16 @@ def _solve(prep: Prepared, cause: Cause, nl: tuple[float, ...], mask: np.ndarray
         coef, *_ = np.linalg.lstsq(xs, y, rcond=None)
     signs = np.zeros(x.shape[1])
     signs[base.shape[1]:base.shape[1] + len(cause.signs)] = cause.signs
-    if np.any(signs * coef < 0):  # a passive cause with the wrong sign: the best physical fit instead
-        from scipy.optimize import lsq_linear
-
-        lower = np.where(signs > 0, 0.0, -np.inf)
-        upper = np.where(signs < 0, 0.0, np.inf)
-        coef = lsq_linear(xs, y, bounds=(lower, upper), method="bvls").x
+    held = np.zeros(x.shape[1], dtype=bool)
+    while np.any(signs * coef < 0):  # a passive cause with the wrong sign: its best physical value is 0
+        held |= signs * coef < 0     # (active set: the convex optimum lies on that bound)
+        free = ~held
+        coef = np.zeros(x.shape[1])
+        sub = xs[:, free]
+        try:
+            coef[free] = np.linalg.solve(sub.T @ sub, sub.T @ y)
+        except np.linalg.LinAlgError:
+            coef[free] = np.linalg.lstsq(sub, y, rcond=None)[0]
     coef = coef / scale
     pred = x @ coef
     rss = float(np.sum((prep.target[use] - pred[use]) ** 2))
