@@ -202,7 +202,6 @@ def afo_experiment(out: Path, store_dir: Path | None = None) -> tuple[dict[str, 
 def diagnose_recordings(out: Path) -> list[dict[str, Any]]:
     """The demo's last step: diagnose the trials it recorded and exported, and print the findings."""
     from analysis.diagnosis import diagnose, from_table, write_diagnosis_plot
-    from analysis.trial_csv import read_trial_csv
 
     from .export import trial_table
     from .recording import read_trial

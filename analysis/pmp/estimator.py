@@ -232,7 +232,6 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
     n_par = len(pset.names)
     opti = ca.Opti()
     p_scaled = opti.variable(n_par)  # parameter = generic · p_scaled
-    par = {n: pset.generic[i] * p_scaled[i] for i, n in enumerate(pset.names)}
     opti.subject_to(opti.bounded(pset.lower / pset.generic, p_scaled, pset.upper / pset.generic))
     start = np.array([(initial or {}).get(n, g) for n, g in zip(pset.names, pset.generic)]) / pset.generic
     opti.set_initial(p_scaled, start)

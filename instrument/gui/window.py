@@ -18,7 +18,7 @@ import pyqtgraph as pg
 from PySide6 import QtCore, QtGui, QtWidgets
 
 from ..acquisition import AcquisitionEngine
-from ..protocols import AADS_SPRINGS_N_PER_M, AadsProtocol, AnkleProtocol, IsokineticProtocol, KneeProtocol, \
+from ..protocols import AADS_SPRINGS_N_PER_M, AadsProtocol, AnkleProtocol, KneeProtocol, \
     ReplicaProtocol, TrialProtocol
 from ..runner import Checklist, SafetyLimits, TrialRunner, checklist_for
 from ..store import SessionStore, Subject

@@ -12,7 +12,7 @@ from analysis.errors import DataFileError
 from analysis.motion import MotionTrial
 from analysis.sto import read_sto, write_sto
 from analysis.trial_csv import TrialTable, read_trial_csv, write_trial_csv
-from instrument.export import ExportError, arm_gravity_moment_nm, export_trial
+from instrument.export import arm_gravity_moment_nm, export_trial
 from instrument.protocols import AadsProtocol, KneeProtocol
 from instrument.recording import read_trial
 from instrument.session import record_trial

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from drivers.blocks import DynamometerBlock, ForcePlateBlock
-from instrument.errors import CorruptFileError, DiskFullError
+from instrument.errors import CorruptFileError
 from instrument.recording import DeviceSpec, TrialWriter, read_trial, recover_trial_file
 from instrument.store import SessionStore, Subject
 

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from drivers.dynamometer.protocol import Fault, State
+from drivers.dynamometer.protocol import State
 from instrument.protocols import KneeProtocol
 from instrument.recording import read_trial
 from instrument.runner import ESTOP_RESENDS, SafetyLimits, TrialRunner
