@@ -7,16 +7,23 @@ setting (variable projection): a grid, then a bounded refinement.
 Baselines (angles in rad inside):
 - ``afo``: a spring with moment-arm nonlinearity, τ = c₀ + c₁θ + c₂θ²;
 - ``knee``, ``ankle``: the limb's weight from the subject (known, subtracted) plus a smooth
-  elastic moment, c₀ + c₁θ + c₂θ² + c₃θ³ + c₄e^{6(θ−θmax)} + c₅e^{−6(θ−θmin)} (stiffening toward
-  both ends of the range, as passive joint moments do);
+  elastic moment, c₀ + c₁θ + c₂θ² + c₃θ³ + Σₖ (aₖe^{rₖ(θ−θmax)} + bₖe^{−rₖ(θ−θmin)}), rₖ in
+  ``EXP_RATES_PER_RAD`` (stiffening toward both ends of the range, as passive joint moments do);
 - ``replica``: springs on wrapped paths, τ = c₀ + c₁θ + c₂θ².
+
+The *flexible* baseline adds a cubic spline in angle (truncated-power terms (θ − κⱼ)₊³ at
+``SPLINE_KNOTS`` interior knots): any smooth torque–angle curve. A cause that is not a function of
+angle alone (friction, damping, a delay, a drift, a burst, inertia) must stay significant against
+it, so a passive curve the parametric baseline does not span is never mistaken for one of them.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -24,6 +31,14 @@ from ..errors import InputError
 from .data import DiagnosisTrial
 
 FRICTION_SPEED_RAD_S = np.deg2rad(1.0)  # tanh width of the Coulomb term
+#: rates (1/rad) of the baseline's stiffening exponentials at each end of the range: published
+#: passive joint moments (Riener & Edrich 1999: 2.0–11.2 /rad) are sums of such terms, and two rates
+#: per end span them to < 0.02 N·m where one rate left 0.4 N·m (a false "stop" at 3× the noise)
+EXP_RATES_PER_RAD = (3.0, 9.0)
+SPLINE_KNOTS = 8                          # interior knots of the flexible baseline's spline
+#: an activation burst's physiological duration (s): a stretch reflex or a voluntary twitch lasts
+#: 0.15–2 s; longer "bursts" would absorb drift or a baseline mismatch
+BURST_DURATION_S = (0.15, 2.0)
 
 
 @dataclass
@@ -43,6 +58,13 @@ class Prepared:
     torque: np.ndarray          # measured torque (N·m)
     alpha: np.ndarray           # angular acceleration (rad/s²)
     base_cache: np.ndarray | None = None
+    flexible: bool = False      # add the spline in angle to the baseline (see the module docstring)
+    gram_cache: dict[bytes, Any] = field(default_factory=dict, repr=False)
+    grid_residual: np.ndarray | None = field(default=None, repr=False)  # what a burst's matched filter scans
+
+    def as_flexible(self) -> "Prepared":
+        """The same signals with the flexible baseline."""
+        return dataclasses.replace(self, base_cache=None, flexible=True, gram_cache={})
 
     @classmethod
     def of(cls, trial: DiagnosisTrial, min_angle_deg: float | None = None) -> "Prepared":
@@ -65,12 +87,20 @@ class Prepared:
                    savgol_filter(trial.angle_rad, n, 3, deriv=2, delta=1.0 / trial.rate_hz)[keep])
 
 
-def baseline_columns(kind: str, theta: np.ndarray, lo: float, hi: float) -> np.ndarray:
-    """Baseline basis (n, p) at angles ``theta`` (rad)."""
+def baseline_columns(kind: str, theta: np.ndarray, lo: float, hi: float, flexible: bool = False) -> np.ndarray:
+    """Baseline basis (n, p) at angles ``theta`` (rad); ``flexible`` adds the spline in angle."""
     if kind in ("knee", "ankle"):
-        return np.column_stack([np.ones_like(theta), theta, theta**2, theta**3,
-                                np.exp(6.0 * (theta - hi)), np.exp(-6.0 * (theta - lo))])
-    return np.column_stack([np.ones_like(theta), theta, theta**2])
+        cols = [np.ones_like(theta), theta, theta**2, theta**3]
+        for rate in EXP_RATES_PER_RAD:
+            cols += [np.exp(rate * (theta - hi)), np.exp(-rate * (theta - lo))]
+    else:
+        cols = [np.ones_like(theta), theta, theta**2]
+    if flexible:
+        if kind not in ("knee", "ankle"):
+            cols.append(theta**3)
+        for knot in np.linspace(lo, hi, SPLINE_KNOTS + 2)[1:-1]:
+            cols.append(np.maximum(theta - knot, 0.0) ** 3)
+    return np.column_stack(cols)
 
 
 @dataclass
@@ -97,11 +127,15 @@ class Cause:
     #: resistance of the specimen (see analysis.trial_csv), so passive losses and stops add to it:
     #: a negative damping or friction, or a stop that pulls, is not a passive cause
     signs: tuple[int, ...] = ()
+    #: a cause that is not a function of angle alone: it must also beat the flexible baseline
+    hysteretic: bool = False
+    #: the two causes of a compound (their nonlinear parameters are searched one at a time)
+    parts: tuple["Cause", ...] = ()
 
 
 def _plain(prep: Prepared, extra: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     if prep.base_cache is None:
-        prep.base_cache = baseline_columns(prep.trial.kind, prep.theta, prep.lo, prep.hi)
+        prep.base_cache = baseline_columns(prep.trial.kind, prep.theta, prep.lo, prep.hi, prep.flexible)
     base = prep.base_cache
     ext = np.zeros((prep.t.size, 0)) if extra is None else extra.reshape(prep.t.size, -1)
     return base, ext, np.ones(prep.t.size, dtype=bool)
@@ -116,27 +150,41 @@ def _delayed(prep: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray, np.ndar
     d = nl[0]
     th = np.interp(prep.t - d, prep.t, prep.theta)
     valid = prep.t - d >= prep.t[0]
-    return baseline_columns(prep.trial.kind, th, prep.lo, prep.hi), np.zeros((prep.t.size, 0)), valid
+    return baseline_columns(prep.trial.kind, th, prep.lo, prep.hi, prep.flexible), np.zeros((prep.t.size, 0)), valid
 
 
 def _compliant(prep: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     th = prep.theta - nl[0] * prep.torque_smooth
-    return baseline_columns(prep.trial.kind, th, prep.lo, prep.hi), np.zeros((prep.t.size, 0)), np.ones(prep.t.size, bool)
+    return baseline_columns(prep.trial.kind, th, prep.lo, prep.hi, prep.flexible), np.zeros((prep.t.size, 0)), np.ones(prep.t.size, bool)
+
+
+def _stop_column(prep: Prepared, stop: float) -> np.ndarray:
+    """Penetration past a stop (rad): past the top of the range when the stop is in its upper half,
+    below the bottom (negative: the stop pushes back toward positive angles) when in its lower half."""
+    if stop >= 0.5 * (prep.lo + prep.hi):
+        return np.maximum(prep.theta - stop, 0.0)
+    return -np.maximum(stop - prep.theta, 0.0)
 
 
 def _stop_grid(prep: Prepared) -> list[np.ndarray]:
-    return [np.quantile(prep.theta, np.linspace(0.5, 0.97, 24))]
+    """Stop angles spread evenly over the range (not over the samples: a bend spends little time past
+    its stop), 2 % of the range clear of either end."""
+    span = prep.hi - prep.lo
+    return [np.linspace(prep.lo + 0.02 * span, prep.hi - 0.02 * span, 40)]
 
 
 def _burst_grid(prep: Prepared) -> np.ndarray:
     """Candidate (start, duration) pairs: for each duration, the starts where a half-sine best matches
     the baseline's residual (a matched filter), so the grid stays small on long trials."""
-    base = baseline_columns(prep.trial.kind, prep.theta, prep.lo, prep.hi)
-    coef, *_ = np.linalg.lstsq(base, prep.target, rcond=None)
-    resid = prep.target - base @ coef
+    if prep.grid_residual is not None:  # inside a compound: what the other cause leaves
+        resid = prep.grid_residual
+    else:
+        base = baseline_columns(prep.trial.kind, prep.theta, prep.lo, prep.hi, prep.flexible)
+        coef, *_ = np.linalg.lstsq(base, prep.target, rcond=None)
+        resid = prep.target - base @ coef
     dt = float(np.median(np.diff(prep.t)))
     pairs = []
-    for dur in (0.2, 0.35, 0.5, 0.7, 1.0):
+    for dur in (0.2, 0.35, 0.5, 0.7, 1.0, 1.4, 2.0):
         kernel = np.sin(np.pi * np.linspace(0, 1, max(3, int(dur / dt))))
         score = np.abs(np.correlate(resid, kernel, mode="valid"))
         for i in np.argsort(score)[::-1][:200:25]:
@@ -144,15 +192,22 @@ def _burst_grid(prep: Prepared) -> np.ndarray:
     return np.array(pairs)
 
 
+def burst_bounds(prep: Prepared, nl: tuple[float, ...]) -> tuple[float, float]:
+    """``nl`` = (start, duration) held to the physiological duration and inside the trial."""
+    dur = float(np.clip(nl[1], *BURST_DURATION_S))
+    start = float(np.clip(nl[0], prep.t[0], prep.t[-1] - dur))
+    return start, dur
+
+
 CAUSES: dict[str, Cause] = {c.name: c for c in [
     Cause("none", "the baseline explains the data to the noise", ("afo", "knee", "ankle", "replica"),
           lambda p, nl: _plain(p), lambda c, nl: {}),
     Cause("coulomb_friction", "constant torque opposing motion (hysteresis of constant width)", ("afo", "knee", "ankle"),
           lambda p, nl: _plain(p, np.tanh(p.omega / FRICTION_SPEED_RAD_S)),
-          lambda c, nl: {"friction_Nm": float(c[0])}, "friction_Nm", signs=(1,)),
+          lambda c, nl: {"friction_Nm": float(c[0])}, "friction_Nm", signs=(1,), hysteretic=True),
     Cause("viscous_damping", "torque proportional to angular velocity (hysteresis growing with speed)",
           ("afo", "knee", "ankle"), lambda p, nl: _plain(p, p.omega),
-          lambda c, nl: {"damping_Nm_s_per_rad": float(c[0])}, "damping_Nm_s_per_rad", signs=(1,)),
+          lambda c, nl: {"damping_Nm_s_per_rad": float(c[0])}, "damping_Nm_s_per_rad", signs=(1,), hysteretic=True),
     Cause("series_compliance", "a compliant element in series (apparent stiffness falling with load)",
           ("afo", "knee", "ankle"), _compliant,
           lambda c, nl: {"compliance_deg_per_Nm": float(np.rad2deg(nl[0])),
@@ -160,23 +215,24 @@ CAUSES: dict[str, Cause] = {c.name: c for c in [
           "compliance_deg_per_Nm",
           lambda p: [np.linspace(0.0, np.deg2rad(0.3), 31)]),
     Cause("hard_stop", "added stiffness past a stop angle", ("afo", "knee", "ankle", "replica"),
-          lambda p, nl: _plain(p, np.maximum(p.theta - nl[0], 0.0)),
+          lambda p, nl: _plain(p, _stop_column(p, nl[0])),
           lambda c, nl: {"stop_angle_deg": float(np.rad2deg(nl[0])), "stop_stiffness_Nm_per_deg": float(np.deg2rad(c[0]))},
           "stop_stiffness_Nm_per_deg", _stop_grid, signs=(1,)),
     Cause("activation_burst", "transient active torque that passive tissue cannot produce", ("knee", "ankle"),
-          lambda p, nl: _plain(p, _burst(p.t, nl[0], nl[1])),
+          lambda p, nl: _plain(p, _burst(p.t, *burst_bounds(p, nl))),
           lambda c, nl: {"burst_amplitude_Nm": float(c[0]), "burst_start_s": float(nl[0]), "burst_duration_s": float(nl[1])},
-          "burst_amplitude_Nm", _burst_grid, transient=True),
+          "burst_amplitude_Nm", _burst_grid, transient=True, hysteretic=True),
     Cause("gravity_error", "a segment mass or centre-of-mass error (torque error sinusoidal in angle)",
           ("knee", "ankle"), lambda p, nl: _plain(p, p.gravity_shape),
           lambda c, nl: {"gravity_moment_error_Nm": float(c[0])}, "gravity_moment_error_Nm"),
     Cause("time_delay", "the torque channel lagging the angle channel", ("afo", "knee", "ankle"), _delayed,
-          lambda c, nl: {"delay_s": float(nl[0])}, "delay_s", lambda p: [np.linspace(0.0, 0.25, 26)]),
+          lambda c, nl: {"delay_s": float(nl[0])}, "delay_s", lambda p: [np.linspace(0.0, 0.3, 31)], hysteretic=True),
     Cause("inertia", "torque proportional to angular acceleration (the moving mass at speed changes)",
           ("knee", "ankle"), lambda p, nl: _plain(p, p.alpha), lambda c, nl: {"inertia_kgm2": float(c[0])}, "inertia_kgm2",
-          transient=True),  # accelerations happen at speed changes only: held-out blocks cannot learn it
+          transient=True, hysteretic=True),  # accelerations happen at speed changes only: held-out blocks cannot learn it
     Cause("sensor_drift", "torque offset drifting with time", ("afo", "knee", "ankle", "replica"),
-          lambda p, nl: _plain(p, p.t - p.t.mean()), lambda c, nl: {"drift_Nm_per_s": float(c[0])}, "drift_Nm_per_s"),
+          lambda p, nl: _plain(p, p.t - p.t.mean()), lambda c, nl: {"drift_Nm_per_s": float(c[0])}, "drift_Nm_per_s",
+          hysteretic=True),
 ]}
 
 #: pairs a trial may not tell apart, and the protocol change that would
@@ -231,7 +287,7 @@ def compound(first: Cause, second: Cause) -> Cause:
 
     return Cause(f"{first.name}+{second.name}", f"{first.description}; and {second.description}",
                  first.kinds, columns, report, "", grid, first.transient or second.transient,
-                 _signs(first) + _signs(second))
+                 _signs(first) + _signs(second), first.hysteretic or second.hysteretic, (first, second))
 
 
 def _signs(cause: Cause) -> tuple[int, ...]:

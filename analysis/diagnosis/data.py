@@ -9,6 +9,7 @@ simulated subject.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -48,6 +49,18 @@ class DiagnosisTrial:
     @property
     def rate_hz(self) -> float:
         return 1.0 / float(np.median(np.diff(self.time_s)))
+
+    def decimated(self, max_rate_hz: float) -> "DiagnosisTrial":
+        """This trial averaged over blocks of consecutive samples so its rate is at most ``max_rate_hz``
+        (Hz); the block mean is the anti-alias filter. Passive effects live below 10 Hz."""
+        q = int(math.floor(self.rate_hz / max_rate_hz))
+        if q <= 1:
+            return self
+        n = self.time_s.size // q * q
+        def mean(x: np.ndarray) -> np.ndarray:
+            return x[:n].reshape(-1, q).mean(axis=1)
+        return DiagnosisTrial(self.kind, mean(self.time_s), mean(self.angle_rad), mean(self.torque_nm),
+                              dict(self.fixed_deg), dict(self.subject), self.source)
 
     def velocity_rad_s(self, window_s: float = 0.15) -> np.ndarray:
         """Angular velocity by a Savitzky–Golay derivative (cubic, ``window_s`` wide)."""
