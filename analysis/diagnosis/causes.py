@@ -61,10 +61,11 @@ class Prepared:
     flexible: bool = False      # add the spline in angle to the baseline (see the module docstring)
     gram_cache: dict[bytes, Any] = field(default_factory=dict, repr=False)
     grid_residual: np.ndarray | None = field(default=None, repr=False)  # what a burst's matched filter scans
+    arg_cache: dict[tuple[Any, ...], Any] = field(default_factory=dict, repr=False)
 
     def as_flexible(self) -> "Prepared":
         """The same signals with the flexible baseline."""
-        return dataclasses.replace(self, base_cache=None, flexible=True, gram_cache={})
+        return dataclasses.replace(self, base_cache=None, flexible=True, gram_cache={}, arg_cache={})
 
     @classmethod
     def of(cls, trial: DiagnosisTrial, min_angle_deg: float | None = None) -> "Prepared":
@@ -85,6 +86,20 @@ class Prepared:
                    savgol_filter(trial.torque_nm, n, 2)[keep], float(th.min()), float(th.max()), grav[keep],
                    trial.gravity_shape()[keep], trial.torque_nm[keep],
                    savgol_filter(trial.angle_rad, n, 3, deriv=2, delta=1.0 / trial.rate_hz)[keep])
+
+
+def normal_lstsq(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Least-squares coefficients by the normal equations on unit-diagonal columns (an SVD solve costs
+    ~30× more, and far more with a threaded BLAS on a loaded host); falls back to the SVD if singular."""
+    d = np.sqrt(np.maximum(np.einsum("ij,ij->j", x, x), 1e-300))
+    xs = x / d
+    try:
+        c = np.linalg.solve(xs.T @ xs, xs.T @ y)
+        if np.all(np.isfinite(c)):
+            return c / d
+    except np.linalg.LinAlgError:
+        pass
+    return np.linalg.lstsq(xs, y, rcond=None)[0] / d
 
 
 def baseline_columns(kind: str, theta: np.ndarray, lo: float, hi: float, flexible: bool = False) -> np.ndarray:
@@ -146,14 +161,35 @@ def _burst(t: np.ndarray, start: float, duration: float) -> np.ndarray:
     return np.where((u >= 0) & (u <= 1), np.sin(np.pi * np.clip(u, 0, 1)), 0.0)
 
 
+def _cached(prep: Prepared, key: tuple[Any, ...], make: Callable[[], tuple[np.ndarray, np.ndarray, np.ndarray]]
+            ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Columns of an argument-changing cause at one grid value, made once per trial (the pair search and
+    the held-out folds revisit the same grid)."""
+    hit = prep.arg_cache.get(key)
+    if hit is None:
+        if len(prep.arg_cache) >= 96:
+            prep.arg_cache.clear()
+        hit = prep.arg_cache[key] = make()
+    return hit
+
+
 def _delayed(prep: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    return _cached(prep, ("delay", nl[0]), lambda: _delayed_columns(prep, nl))
+
+
+def _delayed_columns(prep: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     d = nl[0]
     th = np.interp(prep.t - d, prep.t, prep.theta)
-    valid = prep.t - d >= prep.t[0]
+    # the delayed angle must lie in the range the trial describes (an AFO's is cut at the spring's engagement)
+    valid = (prep.t - d >= prep.t[0]) & (th >= prep.lo)
     return baseline_columns(prep.trial.kind, th, prep.lo, prep.hi, prep.flexible), np.zeros((prep.t.size, 0)), valid
 
 
 def _compliant(prep: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    return _cached(prep, ("compliance", nl[0]), lambda: _compliant_columns(prep, nl))
+
+
+def _compliant_columns(prep: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     th = prep.theta - nl[0] * prep.torque_smooth
     return baseline_columns(prep.trial.kind, th, prep.lo, prep.hi, prep.flexible), np.zeros((prep.t.size, 0)), np.ones(prep.t.size, bool)
 
@@ -170,6 +206,8 @@ def _stop_grid(prep: Prepared) -> list[np.ndarray]:
     """Stop angles spread evenly over the range (not over the samples: a bend spends little time past
     its stop), 2 % of the range clear of either end."""
     span = prep.hi - prep.lo
+    if prep.trial.kind == "afo":  # the orthosis's stop is its dorsiflexion hinge stop; its lower end is the
+        return [np.linspace(prep.lo + 0.5 * span, prep.hi - 0.02 * span, 24)]  # spring's engagement, cut
     return [np.linspace(prep.lo + 0.02 * span, prep.hi - 0.02 * span, 40)]
 
 
@@ -180,8 +218,7 @@ def _burst_grid(prep: Prepared) -> np.ndarray:
         resid = prep.grid_residual
     else:
         base = baseline_columns(prep.trial.kind, prep.theta, prep.lo, prep.hi, prep.flexible)
-        coef, *_ = np.linalg.lstsq(base, prep.target, rcond=None)
-        resid = prep.target - base @ coef
+        resid = prep.target - base @ normal_lstsq(base, prep.target)
     dt = float(np.median(np.diff(prep.t)))
     pairs = []
     for dur in (0.2, 0.35, 0.5, 0.7, 1.0, 1.4, 2.0):
