@@ -145,6 +145,7 @@ class PmpResult:
     identifiability: dict[str, Any] = field(default_factory=dict)
     success: bool = True
     message: str = ""
+    extension_parameters: dict[str, float] = field(default_factory=dict)  # a model extension's estimates
 
     @property
     def solve_s(self) -> float:
@@ -211,12 +212,16 @@ def _eliminate_tendons(moment: Any, residuals: list[Any], lts: list[Any], args: 
 
 def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None = None, intervals: int = 40,
              max_iter: int = 300, initial: dict[str, float] | None = None, parameters: ParameterSet | None = None,
-             moment: Any = None) -> PmpResult:
+             moment: Any = None, extension: Any = None) -> PmpResult:
     """Fit the passive parameters shared by ``trials`` (all at once).
 
     ``parameters`` and ``moment(trial, q, par) → (moment, equilibrium residuals, tendon symbols)``
     replace the eleven-muscle leg with another passive model (a test rig, or the single-muscle
     problem the Moco benchmark shares with OpenSim); by default the leg's muscles.
+
+    ``extension`` (an :class:`analysis.pmp.model_diagnosis.Extension`) adds its terms to the
+    dynamics and its parameters to the decision variables, fitted with the muscles' (the model-level
+    diagnosis); its estimates are in ``PmpResult.extension_parameters``.
 
     :raises InputError: a trial is empty or moves another joint than knee/ankle.
     """
@@ -235,6 +240,14 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
     opti.subject_to(opti.bounded(pset.lower / pset.generic, p_scaled, pset.upper / pset.generic))
     start = np.array([(initial or {}).get(n, g) for n, g in zip(pset.names, pset.generic)]) / pset.generic
     opti.set_initial(p_scaled, start)
+    n_ext = len(extension.parameters) if extension is not None else 0
+    e_scaled = opti.variable(max(n_ext, 1))  # extension parameter = its typical size · e_scaled
+    if n_ext:
+        e_size = np.asarray(extension.typical, dtype=float)
+        opti.subject_to(opti.bounded(np.asarray(extension.lower) / e_size, e_scaled, np.asarray(extension.upper) / e_size))
+        opti.set_initial(e_scaled, np.clip(0.0, np.asarray(extension.lower) / e_size, np.asarray(extension.upper) / e_size))
+    else:
+        opti.subject_to(e_scaled == 0)
     cost = 0
     outputs = []
     for t in trials:
@@ -257,17 +270,25 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
         opti.set_initial(u, um / u_scale)
         inertia = subject.inertia_kgm2(t.joint)
         # the point dynamics as one SX function, mapped over every collocation point (a small MX graph)
-        qs, us, ps = ca.SX.sym("q"), ca.SX.sym("u"), ca.SX.sym("p", n_par)
+        qs, vs, us, ps = ca.SX.sym("q"), ca.SX.sym("v"), ca.SX.sym("u"), ca.SX.sym("p", n_par)
+        es = ca.SX.sym("e", max(n_ext, 1))
         par_s = {n: pset.generic[i] * ps[i] for i, n in enumerate(pset.names)}
-        muscles, residuals, calf = passive(t, qs, par_s)
-        moment = subject.gravity_moment_nm(t.joint, qs, t.fixed_rad, ca.cos) + muscles
+        ext_par = [float(extension.typical[i]) * es[i] for i in range(n_ext)]
+        q_joint = extension.joint_angle(t, qs, ext_par) if n_ext else qs
+        muscles, residuals, calf = passive(t, q_joint, par_s)
+        if n_ext and extension.angle is not None:  # the muscles' moment reaches the arm by virtual work
+            muscles = muscles * ca.jacobian(q_joint, qs)
+        gravity = subject.gravity_moment_nm(t.joint, qs, t.fixed_rad, ca.cos)
+        moment = gravity + muscles
+        if n_ext:
+            moment = moment + extension.moment(t, qs, vs, ext_par, gravity)
         lts = ca.vertcat(*calf) if calf else ca.SX.sym("lt", 0)
         lt = opti.variable(len(calf), n_pts) if calf else None
         if calf:
             opti.set_initial(lt, 1.01)
             opti.subject_to(opti.bounded(0.99, lt, 1.2))
-        point = ca.Function("point", [qs, us, ps, lts], [(us * u_scale + moment) / inertia, ca.vertcat(*residuals)])
-        acc_row, res_rows = point.map(n_pts)(q.T, u.T, ca.repmat(p_scaled, 1, n_pts),
+        point = ca.Function("point", [qs, vs, us, ps, es, lts], [(us * u_scale + moment) / inertia, ca.vertcat(*residuals)])
+        acc_row, res_rows = point.map(n_pts)(q.T, v.T, u.T, ca.repmat(p_scaled, 1, n_pts), ca.repmat(e_scaled, 1, n_pts),
                                               lt if calf else ca.DM.zeros(0, n_pts))
         if calf:
             opti.subject_to(ca.vec(res_rows) == 0)
@@ -289,6 +310,8 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
     prior_sd = np.array([PRIOR_RELATIVE_SD[n.split(".")[1]] for n in pset.names]) if parameters is None \
         else np.full(n_par, 0.1)
     reg = PRIOR_WEIGHT * ca.sumsqr((p_scaled - 1.0) / ca.DM(prior_sd))
+    if n_ext:  # a vanishing pull toward no extension: a parameter no trial touches stays at 0
+        reg = reg + 1e-6 * ca.sumsqr(e_scaled)
     opti.minimize(cost + reg)
     opti.solver("ipopt", {"print_time": False}, {"print_level": 0, "max_iter": max_iter, "tol": 1e-8,
                                                   "sb": "yes"})
@@ -308,10 +331,14 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
     for t, tt, q, v, u, u_scale, qm, vm, um in outputs:
         res_trials.append({"name": t.name, "time_s": tt, "angle_rad": sol.value(q), "velocity_rad_s": sol.value(v),
                            "torque_nm": sol.value(u) * u_scale, "measured_angle_rad": qm, "measured_torque_nm": um})
+    ext_est = {}
+    if n_ext:
+        values = np.atleast_1d(np.asarray(sol.value(e_scaled)).ravel()) * np.asarray(extension.typical, dtype=float)
+        ext_est = dict(zip(extension.parameters, values.tolist()))
     return PmpResult(dict(zip(pset.names, est.tolist())), dict(zip(pset.names, pset.generic.tolist())),
                      dict(zip(pset.names, pset.lower.tolist())), dict(zip(pset.names, pset.upper.tolist())),
                      float(sol.value(cost)), int(stats.get("iter_count", -1)), solve_s, status, res_trials,
-                     success=success, message=message)
+                     success=success, message=message, extension_parameters=ext_est)
 
 
 def moment_function(leg: LegMuscles, trial: PmpTrial, parameters: dict[str, float]) -> Any:

@@ -1,0 +1,251 @@
+"""Model-level diagnosis of the passive-parameter fit: what the subject's musculoskeletal model gets wrong.
+
+After a subject's fit, each candidate extension of the model is fitted *inside the estimator*
+(its terms enter the collocation dynamics, its parameters are decision variables beside the
+muscles') and judged by **held-out prediction across trials**: the model is fitted on all trials
+but one condition and predicts the left-out condition's torque from its measured motion (inverse
+dynamics, I·q̈ − M_muscles − M_gravity − M_extension); every condition is left out once. An
+extension is named when it lowers the pooled held-out RMSE to below ``max_heldout_ratio`` of the
+plain model's; the one that lowers it most wins. Its parameters get jackknife intervals over the
+folds (the spread of the leave-one-condition-out estimates), and the report says how far each
+passive parameter moves when the extension is added.
+
+Candidates (what the dissertation's discussion and the dynamometer literature name):
+
+- ``viscous_damping``: −b·q̇ (tissue viscosity; b in N·m·s/rad);
+- ``coulomb_friction``: −F·tanh(q̇ / 1°/s) (dynamometer or joint friction; F in N·m);
+- ``limb_mass_error``: δ · M_gravity (the limb's weight off by the fraction δ);
+- ``torque_offset``: a constant torque per joint (a dynamometer arm-weight compensation error or
+  residual activation; N·m);
+- ``axis_misalignment``: the joint turns by q + a·sin q + b·cos q when the arm turns by q, and
+  the muscles' moment reaches the arm scaled by the derivative (virtual work), a and b per joint
+  (≈ offset / lever; rad).
+
+Sign convention as the estimator's: moments toward positive angle, q̇ in rad/s.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .estimator import PmpResult, PmpTrial, Subject, _eliminate_tendons, _muscles_moment, estimate
+from .muscles import LegMuscles
+
+FRICTION_SPEED_RAD_S = math.radians(1.0)
+
+
+def _ca() -> Any:
+    import casadi as ca
+    return ca
+
+
+@dataclass(frozen=True)
+class Extension:
+    """A candidate model extension: its parameters (typical size and bounds, SI) and terms.
+
+    ``term(trial, q, v, p, gravity)`` is the extra moment toward positive angle (N·m);
+    ``angle(trial, q, p)`` maps the arm's angle to the joint's (default: the same); both take and
+    return CasADi expressions (or numbers).
+    """
+
+    name: str
+    description: str
+    parameters: tuple[str, ...]
+    typical: tuple[float, ...]
+    lower: tuple[float, ...]
+    upper: tuple[float, ...]
+    term: Callable[..., Any] = lambda t, q, v, p, g: 0
+    angle: Callable[..., Any] | None = None
+
+    def moment(self, trial: PmpTrial, q: Any, v: Any, p: list[Any], gravity: Any) -> Any:
+        return self.term(trial, q, v, p, gravity)
+
+    def joint_angle(self, trial: PmpTrial, q: Any, p: list[Any]) -> Any:
+        return self.angle(trial, q, p) if self.angle is not None else q
+
+
+def _per_joint(trial: PmpTrial, p: list[Any], knee: int, ankle: int) -> Any:
+    return p[knee] if trial.joint == "knee" else p[ankle]
+
+
+def _misaligned(trial: PmpTrial, q: Any, p: list[Any]) -> Any:
+    ca = _ca()
+    a, b = (p[0], p[1]) if trial.joint == "knee" else (p[2], p[3])
+    return q + a * ca.sin(q) + b * ca.cos(q)
+
+
+EXTENSIONS: dict[str, Extension] = {e.name: e for e in [
+    Extension("viscous_damping", "torque proportional to angular velocity (tissue viscosity)",
+              ("damping_Nm_s_per_rad",), (1.0,), (0.0,), (20.0,), lambda t, q, v, p, g: -p[0] * v),
+    Extension("coulomb_friction", "constant torque opposing motion (dynamometer or joint friction)",
+              ("friction_Nm",), (1.0,), (0.0,), (10.0,),
+              lambda t, q, v, p, g: -p[0] * _ca().tanh(v / FRICTION_SPEED_RAD_S)),
+    Extension("limb_mass_error", "the limb's weight off by a fraction (mass or centre of mass)",
+              ("limb_weight_error_fraction",), (0.1,), (-0.5,), (0.5,), lambda t, q, v, p, g: p[0] * g),
+    Extension("torque_offset", "a constant torque per joint (arm-weight compensation error or residual activation)",
+              ("knee_offset_Nm", "ankle_offset_Nm"), (1.0, 1.0), (-20.0, -20.0), (20.0, 20.0),
+              lambda t, q, v, p, g: _per_joint(t, p, 0, 1)),
+    Extension("axis_misalignment", "the joint's axis off the dynamometer's (joint angle and lever change with angle)",
+              ("knee_axis_sin_rad", "knee_axis_cos_rad", "ankle_axis_sin_rad", "ankle_axis_cos_rad"),
+              (0.02, 0.02, 0.02, 0.02), (-0.15,) * 4, (0.15,) * 4, angle=_misaligned),
+]}
+
+
+@dataclass
+class ExtensionFinding:
+    """One candidate as judged: held-out RMSE (N·m) pooled over the left-out conditions, its ratio to
+    the plain model's, the parameters (full fit) with jackknife 95 % intervals, and how far each
+    passive parameter moved (%) when it was added."""
+
+    name: str
+    heldout_rmse_nm: float
+    heldout_ratio: float
+    parameters: dict[str, float]
+    ci95: dict[str, tuple[float, float]]
+    parameter_shift_pct: dict[str, float]
+    fold_rmse_nm: dict[str, float]
+    named: bool = False
+
+
+@dataclass
+class ModelDiagnosis:
+    """The finding: ``cause`` (an extension's name or ``"none"``), every candidate, and a sentence."""
+
+    cause: str
+    plain_heldout_rmse_nm: float
+    plain_fold_rmse_nm: dict[str, float]
+    candidates: list[ExtensionFinding]
+    message: str
+    folds: list[str] = field(default_factory=list)
+
+    def winner(self) -> ExtensionFinding | None:
+        return next((c for c in self.candidates if c.name == self.cause), None)
+
+    def text(self) -> str:
+        lines = [f"model-level diagnosis (held-out across {len(self.folds)} conditions): {self.message}",
+                 f"  {'extension':<20}{'held-out RMSE':>15}{'ratio':>8}  parameters (95 % jackknife interval)"]
+        lines.append(f"  {'none':<20}{self.plain_heldout_rmse_nm:>13.3f} N·m{1.0:>8.2f}")
+        for c in sorted(self.candidates, key=lambda c: c.heldout_ratio):
+            ps = ", ".join(f"{k} = {v:.3g} [{c.ci95[k][0]:.3g}, {c.ci95[k][1]:.3g}]" for k, v in c.parameters.items()
+                           if k in c.ci95)
+            lines.append(f"  {c.name:<20}{c.heldout_rmse_nm:>13.3f} N·m{c.heldout_ratio:>8.2f}  {ps}"
+                         + ("  ← named" if c.named else ""))
+        w = self.winner()
+        if w is not None:
+            moved = sorted(w.parameter_shift_pct.items(), key=lambda kv: -abs(kv[1]))[:5]
+            lines.append("  with it, the passive parameters move: " + ", ".join(f"{k} {v:+.1f} %" for k, v in moved))
+        return "\n".join(lines)
+
+    def as_dict(self) -> dict[str, Any]:
+        return {"cause": self.cause, "message": self.message, "folds": self.folds,
+                "plain_heldout_rmse_Nm": self.plain_heldout_rmse_nm, "plain_fold_rmse_Nm": self.plain_fold_rmse_nm,
+                "candidates": [{"name": c.name, "heldout_rmse_Nm": c.heldout_rmse_nm, "heldout_ratio": c.heldout_ratio,
+                                "parameters": c.parameters, "ci95": {k: list(v) for k, v in c.ci95.items()},
+                                "parameter_shift_pct": c.parameter_shift_pct, "fold_rmse_Nm": c.fold_rmse_nm,
+                                "named": c.named} for c in self.candidates]}
+
+
+def predict_torque_nm(result: PmpResult, trial: PmpTrial, subject: Subject, leg: LegMuscles,
+                      extension: Extension | None = None, points: int = 60) -> tuple[np.ndarray, np.ndarray]:
+    """(sample indices, predicted dynamometer torque N·m) for ``trial`` from its measured motion and the
+    fitted model: u = I·q̈ − M_muscles − M_gravity − M_extension (inverse dynamics)."""
+    ca = _ca()
+    idx = np.unique(np.linspace(0, trial.time_s.size - 1, min(points, trial.time_s.size)).astype(int))
+    q_s, v_s = ca.SX.sym("q"), ca.SX.sym("v")
+    ext = [result.extension_parameters[n] for n in extension.parameters] if extension is not None else []
+    q_joint = extension.joint_angle(trial, q_s, ext) if extension is not None else q_s
+    moment, residuals, lts = _muscles_moment(leg, trial, q_joint, result.parameters)
+    muscles = _eliminate_tendons(moment, residuals, lts, [q_s])
+    if extension is not None and extension.angle is not None:
+        muscles = muscles * ca.jacobian(q_joint, q_s)
+    gravity = subject.gravity_moment_nm(trial.joint, q_s, trial.fixed_rad, ca.cos)
+    total = gravity + muscles + (extension.moment(trial, q_s, v_s, ext, gravity) if extension is not None else 0)
+    f = ca.Function("m", [q_s, v_s], [total]).map(idx.size)
+    m = np.asarray(f(trial.angle_rad[idx][None, :], trial.velocity_rad_s[idx][None, :])).ravel()
+    acc = np.gradient(trial.velocity_rad_s, trial.time_s)[idx]
+    return idx, subject.inertia_kgm2(trial.joint) * acc - m
+
+
+def _condition(trial: PmpTrial) -> str:
+    return trial.name or f"{trial.joint} {sorted(trial.fixed_rad.items())}"
+
+
+def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None = None, intervals: int = 20,
+                   candidates: list[str] | None = None, max_heldout_ratio: float = 0.9,
+                   plain: PmpResult | None = None) -> ModelDiagnosis:
+    """Try every candidate extension inside the estimator and judge it by leave-one-condition-out prediction.
+
+    Parameters
+    ----------
+    trials
+        The subject's trials; each distinct condition (trial name) is left out once. At least 3.
+    intervals
+        Collocation intervals per trial in every fit.
+    max_heldout_ratio
+        An extension is named when its pooled held-out RMSE is below this fraction of the plain model's.
+    plain
+        The plain model's fit on all trials, if already made.
+    """
+    from ..errors import InputError
+
+    if len(trials) < 3:
+        raise InputError(f"the model-level diagnosis needs trials of at least 3 conditions, got {len(trials)}")
+    leg = leg or LegMuscles()
+    names = candidates or list(EXTENSIONS)
+    folds = [_condition(t) for t in trials]
+    models: list[Extension | None] = [None] + [EXTENSIONS[n] for n in names]
+    heldout: dict[str, dict[str, float]] = {}
+    fold_params: dict[str, list[dict[str, float]]] = {}
+    for ext in models:
+        key = ext.name if ext else "none"
+        errs: dict[str, float] = {}
+        fold_params[key] = []
+        for i, left in enumerate(trials):
+            fit = estimate([t for j, t in enumerate(trials) if j != i], subject, leg=leg, intervals=intervals,
+                           extension=ext)
+            idx, pred = predict_torque_nm(fit, left, subject, leg, ext)
+            errs[folds[i]] = float(np.sqrt(np.mean((left.torque_nm[idx] - pred) ** 2)))
+            fold_params[key].append(dict(fit.extension_parameters))
+        heldout[key] = errs
+
+    def pooled(errs: dict[str, float]) -> float:
+        return float(np.sqrt(np.mean(np.square(list(errs.values())))))
+
+    plain_fit = plain or estimate(trials, subject, leg=leg, intervals=intervals)
+    base = pooled(heldout["none"])
+    findings = []
+    for ext in models[1:]:
+        assert ext is not None
+        full = estimate(trials, subject, leg=leg, intervals=intervals, extension=ext)
+        k = len(trials)
+        ci = {}
+        for p in ext.parameters:
+            vals = np.array([fp[p] for fp in fold_params[ext.name]])
+            se = math.sqrt((k - 1) / k * float(np.sum((vals - vals.mean()) ** 2)))
+            ci[p] = (full.extension_parameters[p] - 1.96 * se, full.extension_parameters[p] + 1.96 * se)
+        shift = {n: 100.0 * (full.parameters[n] / plain_fit.parameters[n] - 1.0) for n in plain_fit.parameters}
+        rmse = pooled(heldout[ext.name])
+        findings.append(ExtensionFinding(ext.name, rmse, rmse / base if base > 0 else float("nan"),
+                                         dict(full.extension_parameters), ci, shift, heldout[ext.name]))
+    passing = [f for f in findings if f.heldout_ratio < max_heldout_ratio]
+    if passing:
+        best = min(passing, key=lambda f: f.heldout_ratio)
+        best.named = True
+        close = [f.name for f in passing if f is not best and f.heldout_ratio <= best.heldout_ratio * 1.05]
+        message = (f"{best.name} ({EXTENSIONS[best.name].description}): held-out RMSE {base:.3f} → "
+                   f"{best.heldout_rmse_nm:.3f} N·m (ratio {best.heldout_ratio:.2f})"
+                   + (f"; {', '.join(close)} predict nearly as well (these trials do not separate them)" if close else ""))
+        cause = best.name
+    else:
+        message = (f"no extension predicts the left-out conditions better than {max_heldout_ratio:.0%} of the plain "
+                   f"model's {base:.3f} N·m: the model fits to the noise of these trials")
+        cause = "none"
+    return ModelDiagnosis(cause, base, heldout["none"], findings, message, folds)
+
+
+__all__ = ["EXTENSIONS", "Extension", "ExtensionFinding", "ModelDiagnosis", "diagnose_model", "predict_torque_nm"]
