@@ -37,6 +37,15 @@ from .estimator import PmpResult, PmpTrial, Subject, _eliminate_tendons, _muscle
 from .muscles import LegMuscles
 
 FRICTION_SPEED_RAD_S = math.radians(1.0)
+#: what would separate an extension the muscles absorb from them (one-way sweeps at one speed make
+#: damping and friction constant offsets, and a weight error a smooth function of angle)
+PROTOCOL_TO_SEPARATE = {
+    "viscous_damping": "damping needs a second sweep speed or a return sweep (it scales with speed, muscles do not)",
+    "coulomb_friction": "friction needs a return sweep (it changes sign with direction, muscles do not)",
+    "torque_offset": "an offset needs a return sweep or a hold at a slack mid-range angle",
+    "limb_mass_error": "a weight error needs the limb weighed on the dynamometer (a gravity-correction trial)",
+    "axis_misalignment": "a misalignment needs the axes aligned by markers or a second attachment point",
+}
 
 
 def _ca() -> Any:
@@ -135,10 +144,11 @@ class ModelDiagnosis:
                            if k in c.ci95)
             lines.append(f"  {c.name:<20}{c.heldout_rmse_nm:>13.3f} N·m{c.heldout_ratio:>8.2f}  {ps}"
                          + ("  ← named" if c.named else ""))
-        w = self.winner()
+        w = self.winner() or next((c for c in sorted(self.candidates, key=lambda c: c.heldout_ratio)
+                                   if any(lo > 0 or hi < 0 for lo, hi in c.ci95.values())), None)
         if w is not None:
             moved = sorted(w.parameter_shift_pct.items(), key=lambda kv: -abs(kv[1]))[:5]
-            lines.append("  with it, the passive parameters move: " + ", ".join(f"{k} {v:+.1f} %" for k, v in moved))
+            lines.append(f"  with {w.name}, the passive parameters move: " + ", ".join(f"{k} {v:+.1f} %" for k, v in moved))
         return "\n".join(lines)
 
     def as_dict(self) -> dict[str, Any]:
@@ -172,10 +182,26 @@ def predict_torque_nm(result: PmpResult, trial: PmpTrial, subject: Subject, leg:
 
 
 def _condition(trial: PmpTrial) -> str:
-    return trial.name or f"{trial.joint} {sorted(trial.fixed_rad.items())}"
+    fixed = ", ".join(f"{k} {math.degrees(v):.0f}°" for k, v in sorted(trial.fixed_rad.items()))
+    return f"{trial.joint} ({fixed})"
 
 
-def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None = None, intervals: int = 20,
+def folds_of(trials: list[PmpTrial]) -> list[tuple[str, list[int]]]:
+    """(label, indices of the left-out trials) of each fold: every k-th repeat of all conditions when
+    each condition was repeated (the model must predict a repeat of what it saw), else each condition
+    in turn (it must predict a condition it did not see)."""
+    by_condition: dict[str, list[int]] = {}
+    for i, t in enumerate(trials):
+        by_condition.setdefault(_condition(t), []).append(i)
+    repeats = min(len(v) for v in by_condition.values())
+    if repeats >= 2:
+        return [(f"repeat {r + 1}", [v[r] for v in by_condition.values()] + [i for v in by_condition.values()
+                                                                            for i in v[repeats:] if r == 0])
+                for r in range(repeats)]
+    return [(c, v) for c, v in by_condition.items()]
+
+
+def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None = None, intervals: int = 24,
                    candidates: list[str] | None = None, max_heldout_ratio: float = 0.9,
                    plain: PmpResult | None = None) -> ModelDiagnosis:
     """Try every candidate extension inside the estimator and judge it by leave-one-condition-out prediction.
@@ -183,7 +209,8 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
     Parameters
     ----------
     trials
-        The subject's trials; each distinct condition (trial name) is left out once. At least 3.
+        The subject's trials: with repeats, each repeat of every condition is left out in turn; without,
+        each condition (moving joint and fixed angles) is (:func:`folds_of`).
     intervals
         Collocation intervals per trial in every fit.
     max_heldout_ratio
@@ -193,36 +220,40 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
     """
     from ..errors import InputError
 
-    if len(trials) < 3:
-        raise InputError(f"the model-level diagnosis needs trials of at least 3 conditions, got {len(trials)}")
+    folds = folds_of(trials)
+    if len(folds) < 2 or len(trials) < 3:
+        raise InputError(f"the model-level diagnosis needs repeats or at least 3 conditions; got {len(trials)} "
+                         f"trial(s) in {len(folds)} fold(s)")
     leg = leg or LegMuscles()
     names = candidates or list(EXTENSIONS)
-    folds = [_condition(t) for t in trials]
     models: list[Extension | None] = [None] + [EXTENSIONS[n] for n in names]
+    plain_fit = plain or estimate(trials, subject, leg=leg, intervals=intervals)
     heldout: dict[str, dict[str, float]] = {}
     fold_params: dict[str, list[dict[str, float]]] = {}
     for ext in models:
         key = ext.name if ext else "none"
         errs: dict[str, float] = {}
         fold_params[key] = []
-        for i, left in enumerate(trials):
-            fit = estimate([t for j, t in enumerate(trials) if j != i], subject, leg=leg, intervals=intervals,
-                           extension=ext)
-            idx, pred = predict_torque_nm(fit, left, subject, leg, ext)
-            errs[folds[i]] = float(np.sqrt(np.mean((left.torque_nm[idx] - pred) ** 2)))
+        for label, left in folds:
+            fit = estimate([t for j, t in enumerate(trials) if j not in left], subject, leg=leg, intervals=intervals,
+                           extension=ext, initial=plain_fit.parameters)
+            sq = []
+            for j in left:
+                idx, pred = predict_torque_nm(fit, trials[j], subject, leg, ext)
+                sq.append((trials[j].torque_nm[idx] - pred) ** 2)
+            errs[label] = float(np.sqrt(np.mean(np.concatenate(sq))))
             fold_params[key].append(dict(fit.extension_parameters))
         heldout[key] = errs
 
     def pooled(errs: dict[str, float]) -> float:
         return float(np.sqrt(np.mean(np.square(list(errs.values())))))
 
-    plain_fit = plain or estimate(trials, subject, leg=leg, intervals=intervals)
     base = pooled(heldout["none"])
     findings = []
     for ext in models[1:]:
         assert ext is not None
-        full = estimate(trials, subject, leg=leg, intervals=intervals, extension=ext)
-        k = len(trials)
+        full = estimate(trials, subject, leg=leg, intervals=intervals, extension=ext, initial=plain_fit.parameters)
+        k = len(folds)
         ci = {}
         for p in ext.parameters:
             vals = np.array([fp[p] for fp in fold_params[ext.name]])
@@ -242,10 +273,16 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
                    + (f"; {', '.join(close)} predict nearly as well (these trials do not separate them)" if close else ""))
         cause = best.name
     else:
-        message = (f"no extension predicts the left-out conditions better than {max_heldout_ratio:.0%} of the plain "
+        absorbed = [f for f in findings if f.heldout_ratio < 1.05 and any(
+            (lo > 0 or hi < 0) for lo, hi in f.ci95.values())]
+        message = (f"no extension predicts the left-out trials better than {max_heldout_ratio:.0%} of the plain "
                    f"model's {base:.3f} N·m: the model fits to the noise of these trials")
+        if absorbed:
+            message += ("; but " + ", ".join(f.name for f in absorbed) + " fit(s) with parameters away from zero and "
+                        "the muscles' parameters absorb them (they move: see below): "
+                        + "; ".join(PROTOCOL_TO_SEPARATE.get(f.name, "another protocol") for f in absorbed))
         cause = "none"
-    return ModelDiagnosis(cause, base, heldout["none"], findings, message, folds)
+    return ModelDiagnosis(cause, base, heldout["none"], findings, message, [label for label, _ in folds])
 
 
-__all__ = ["EXTENSIONS", "Extension", "ExtensionFinding", "ModelDiagnosis", "diagnose_model", "predict_torque_nm"]
+__all__ = ["folds_of", "EXTENSIONS", "Extension", "ExtensionFinding", "ModelDiagnosis", "diagnose_model", "predict_torque_nm"]
