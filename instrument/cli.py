@@ -102,6 +102,10 @@ def build_parser() -> argparse.ArgumentParser:
     pmp.add_argument("--intervals", type=int, default=24, help="collocation intervals per trial")
     pmp.add_argument("--out", type=Path, default=Path("pmp_report"))
     pmp.add_argument("--json", action="store_true")
+    pmp.add_argument("--diagnose-model", action="store_true",
+                     help="also fit each candidate model extension (damping, friction, limb-mass error, torque offset, "
+                          "axis misalignment) inside the estimator and judge it by held-out prediction across trials "
+                          "(about 5 fits per trial condition and candidate: minutes)")
     rep = kinds.add_parser("replica", help="spring stiffness and rest length of the replica leg from its static holds")
     rep.add_argument("trials", nargs="+", help="store trial ids, .h5 trial files or replica trial CSVs (with sidecars)")
     rep.add_argument("--model", type=Path, default=None, help="replica-leg drawing (TOML; default: the built-in rig)")
@@ -167,7 +171,8 @@ def cmd_analyze_pmp(args: argparse.Namespace) -> int:
             raise DataFileError(args.subject, f"subject JSON cannot be read: {err}") from err
     else:
         subject_data = tables[0].sidecar.get("subject") or {}
-    report = analyse([trial_from_table(t) for t in tables], subject_from(subject_data), args.intervals)
+    report = analyse([trial_from_table(t) for t in tables], subject_from(subject_data), args.intervals,
+                     diagnose_model=args.diagnose_model)
     files = write_plots(report, args.out)
     if args.json:
         print(json.dumps(to_json(report), indent=2, default=float))

@@ -5,8 +5,11 @@ After a subject's fit, each candidate extension of the model is fitted *inside t
 muscles') and judged by **held-out prediction across trials**: the model is fitted on all trials
 but one condition and predicts the left-out condition's torque from its measured motion (inverse
 dynamics, I·q̈ − M_muscles − M_gravity − M_extension); every condition is left out once. An
-extension is named when it lowers the pooled held-out RMSE to below ``max_heldout_ratio`` of the
-plain model's; the one that lowers it most wins. Its parameters get jackknife intervals over the
+extension is named when it predicts every left-out fold better than the plain model and the
+geometric mean of its per-fold RMSE ratios is below ``max_heldout_ratio``; the one with the lowest
+wins. When the plain model's held-out error is many times its in-sample error the folds do not
+predict each other (a left-out condition's muscles are extrapolated), and the report says so
+instead of naming anything: the diagnosis then needs repeats. Its parameters get jackknife intervals over the
 folds (the spread of the leave-one-condition-out estimates), and the report says how far each
 passive parameter moves when the extension is added.
 
@@ -37,6 +40,9 @@ from .estimator import PmpResult, PmpTrial, Subject, _eliminate_tendons, _muscle
 from .muscles import LegMuscles
 
 FRICTION_SPEED_RAD_S = math.radians(1.0)
+#: when the plain model's held-out error is this many times its in-sample error, the folds do not
+#: predict each other (a left-out condition's muscles are extrapolated) and nothing can be judged
+INCONCLUSIVE_FACTOR = 5.0
 #: what would separate an extension the muscles absorb from them (one-way sweeps at one speed make
 #: damping and friction constant offsets, and a weight error a smooth function of angle)
 PROTOCOL_TO_SEPARATE = {
@@ -119,6 +125,7 @@ class ExtensionFinding:
     parameter_shift_pct: dict[str, float]
     fold_rmse_nm: dict[str, float]
     named: bool = False
+    every_fold_better: bool = False
 
 
 @dataclass
@@ -131,6 +138,7 @@ class ModelDiagnosis:
     candidates: list[ExtensionFinding]
     message: str
     folds: list[str] = field(default_factory=list)
+    conclusive: bool = True
 
     def winner(self) -> ExtensionFinding | None:
         return next((c for c in self.candidates if c.name == self.cause), None)
@@ -152,7 +160,7 @@ class ModelDiagnosis:
         return "\n".join(lines)
 
     def as_dict(self) -> dict[str, Any]:
-        return {"cause": self.cause, "message": self.message, "folds": self.folds,
+        return {"cause": self.cause, "message": self.message, "folds": self.folds, "conclusive": self.conclusive,
                 "plain_heldout_rmse_Nm": self.plain_heldout_rmse_nm, "plain_fold_rmse_Nm": self.plain_fold_rmse_nm,
                 "candidates": [{"name": c.name, "heldout_rmse_Nm": c.heldout_rmse_nm, "heldout_ratio": c.heldout_ratio,
                                 "parameters": c.parameters, "ci95": {k: list(v) for k, v in c.ci95.items()},
@@ -230,6 +238,14 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
     plain_fit = plain or estimate(trials, subject, leg=leg, intervals=intervals)
     heldout: dict[str, dict[str, float]] = {}
     fold_params: dict[str, list[dict[str, float]]] = {}
+    def pooled(errs: dict[str, float]) -> float:
+        return float(np.sqrt(np.mean(np.square(list(errs.values())))))
+
+    in_sample = []
+    for t in trials:
+        idx, pred = predict_torque_nm(plain_fit, t, subject, leg)
+        in_sample.append((t.torque_nm[idx] - pred) ** 2)
+    in_sample_rms = float(np.sqrt(np.mean(np.concatenate(in_sample))))
     for ext in models:
         key = ext.name if ext else "none"
         errs: dict[str, float] = {}
@@ -244,9 +260,13 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
             errs[label] = float(np.sqrt(np.mean(np.concatenate(sq))))
             fold_params[key].append(dict(fit.extension_parameters))
         heldout[key] = errs
-
-    def pooled(errs: dict[str, float]) -> float:
-        return float(np.sqrt(np.mean(np.square(list(errs.values())))))
+        if ext is None and pooled(errs) > INCONCLUSIVE_FACTOR * in_sample_rms:
+            base = pooled(errs)  # the plain model's folds already show the trials cannot judge an extension
+            return ModelDiagnosis("none", base, errs, [],
+                                  f"inconclusive: the trials do not predict each other (held-out {base:.3g} N·m against "
+                                  f"{in_sample_rms:.3g} N·m in sample): a left-out condition's muscles are not determined "
+                                  "by the other conditions; record each condition at least twice so repeats can be left "
+                                  "out", [label for label, _ in folds], conclusive=False)
 
     base = pooled(heldout["none"])
     findings = []
@@ -261,9 +281,13 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
             ci[p] = (full.extension_parameters[p] - 1.96 * se, full.extension_parameters[p] + 1.96 * se)
         shift = {n: 100.0 * (full.parameters[n] / plain_fit.parameters[n] - 1.0) for n in plain_fit.parameters}
         rmse = pooled(heldout[ext.name])
-        findings.append(ExtensionFinding(ext.name, rmse, rmse / base if base > 0 else float("nan"),
+        # the ratio is the geometric mean of the folds' ratios: one fold whose left-out trial is badly
+        # extrapolated must not outweigh the others
+        ratios = [heldout[ext.name][k] / heldout["none"][k] for k in heldout["none"] if heldout["none"][k] > 0]
+        findings.append(ExtensionFinding(ext.name, rmse, float(np.exp(np.mean(np.log(ratios)))) if ratios else float("nan"),
                                          dict(full.extension_parameters), ci, shift, heldout[ext.name]))
-    passing = [f for f in findings if f.heldout_ratio < max_heldout_ratio]
+        findings[-1].every_fold_better = bool(ratios) and all(r < 1.0 for r in ratios)
+    passing = [f for f in findings if f.heldout_ratio < max_heldout_ratio and f.every_fold_better]
     if passing:
         best = min(passing, key=lambda f: f.heldout_ratio)
         best.named = True

@@ -90,8 +90,11 @@ def subject_from(data: dict[str, Any]) -> Subject:
     return Subject(values["mass_kg"], values["shank_length_m"], values["foot_length_m"])
 
 
-def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24) -> dict[str, Any]:
-    """Fit, identifiability, physiological stiffness of the determined parameters, and forward dynamics."""
+def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagnose_model: bool = False,
+            model_candidates: list[str] | None = None, model_intervals: int | None = None) -> dict[str, Any]:
+    """Fit, identifiability, physiological stiffness of the determined parameters, and forward dynamics;
+    with ``diagnose_model``, the model-level diagnosis too (:mod:`analysis.pmp.model_diagnosis`: every
+    candidate extension fitted inside the estimator, judged by held-out prediction across trials)."""
     leg = LegMuscles(length_scale=scale_for_subject(subject.shank_length_m))
     res = estimate(trials, subject, leg=leg, intervals=intervals)
     idf = identifiability(res, trials, subject, leg=leg)
@@ -112,8 +115,14 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24) -> di
     slack_norm = {n.split(".")[0]: v / subject.shank_length_m for n, v in res.parameters.items()
                   if n.endswith("tendon_slack_length_m") and n in idf["determined"]}
     fd = [forward_dynamics(t, subject, res.parameters, leg=leg) for t in trials]
+    model = None
+    if diagnose_model:
+        from .model_diagnosis import diagnose_model as run_model_diagnosis
+        model = run_model_diagnosis(trials, subject, leg=leg, intervals=model_intervals or intervals,
+                                    plain=res if not model_intervals or model_intervals == intervals else None,
+                                    candidates=model_candidates)
     return {"result": res, "identifiability": idf, "stiffness": stiff, "slack_per_shank_length": slack_norm,
-            "forward_dynamics": fd, "leg": leg, "shank_length_m": subject.shank_length_m}
+            "forward_dynamics": fd, "leg": leg, "shank_length_m": subject.shank_length_m, "model_diagnosis": model}
 
 
 def text(report: dict[str, Any]) -> str:
@@ -149,6 +158,8 @@ def text(report: dict[str, Any]) -> str:
     for v in report["forward_dynamics"]:
         lines.append(f"forward dynamics {v.name}: angle RMSE {v.angle_rmse_deg:.2f}°, torque RMSE "
                      f"{v.torque_rmse_nm_per_kg:.4f} N·m/kg")
+    if report.get("model_diagnosis") is not None:
+        lines.append(report["model_diagnosis"].text())
     return "\n".join(lines)
 
 
@@ -160,7 +171,8 @@ def to_json(report: dict[str, Any]) -> dict[str, Any]:
             "identifiability": report["identifiability"], "stiffness": report["stiffness"],
             "slack_per_shank_length": report["slack_per_shank_length"],
             "forward_dynamics": [{"trial": v.name, "angle_rmse_deg": v.angle_rmse_deg,
-                                  "torque_rmse_Nm_per_kg": v.torque_rmse_nm_per_kg} for v in report["forward_dynamics"]]}
+                                  "torque_rmse_Nm_per_kg": v.torque_rmse_nm_per_kg} for v in report["forward_dynamics"]],
+            "model_diagnosis": report["model_diagnosis"].as_dict() if report.get("model_diagnosis") else None}
 
 
 def _parameter_figure(report: dict[str, Any]) -> Any:
