@@ -56,6 +56,28 @@ class TrialProtocol(ABC):
     def expected_duration_s(self) -> float:
         return float("nan")
 
+    # what a trial kind is, asked by the runner, the GUI and the CLI (no isinstance chains there)
+    #: the live relaxation check runs on this kind's dynamometer sweep
+    relaxation_monitored: ClassVar[bool] = False
+    #: the live AADS loop (angle from markers, torque from the plate) is computed for this kind
+    live_aads_loop: ClassVar[bool] = False
+
+    def sweep_deg(self) -> tuple[float, float, float] | None:
+        """(start °, end °, speed °/s) of the dynamometer motion this trial commands, or None."""
+        return None
+
+    def checklist(self) -> list[str]:
+        """The set-up items the operator confirms before a trial."""
+        return []
+
+    def live_hint(self, snapshot: Any) -> str | None:
+        """The operator's guidance while this trial runs (from the runner's live state), or None."""
+        return None
+
+    def incomplete_because(self, snapshot: Any) -> str | None:
+        """Why a finished trial of this kind should be repeated even without an alarm, or None."""
+        return None
+
 
 def _wait(stop: threading.Event, seconds: float) -> bool:
     """Sleep ``seconds`` unless stopped; True if stopped."""
@@ -122,6 +144,31 @@ class AadsProtocol(TrialProtocol):
     def expected_duration_s(self) -> float:
         return self.duration_s
 
+    live_aads_loop: ClassVar[bool] = True
+
+    def checklist(self) -> list[str]:
+        return ["force plate zeroed with the AFO unloaded",
+                "AFO foot strapped to the plate (no heel lift or slip)",
+                f"spring {self.spring} fitted, hinge moves freely to the 21° stop",
+                "markers on foot, shank and spring hooks visible to the cameras"]
+
+    def live_hint(self, snapshot: Any) -> str | None:
+        if not self.live_markers:
+            return ("Recording AADS, force-guided: bend until the plate's load peaks and return; the angle comes "
+                    "from the motion-capture system's C3D export (instrument analyze afo FILE.c3d).")
+        if not snapshot.aads_angle_deg.size:
+            return None
+        if snapshot.aads_past_stop:
+            return (f"WARNING: bent to {snapshot.aads_peak_deg:.1f}°, past the 21° stop: ease off (the stop adds its "
+                    "own stiffness).")
+        return (f"Recording AADS … peak {snapshot.aads_peak_deg:.1f}°; fit window 6–20° "
+                + ("covered." if snapshot.aads_covers_window else "not covered yet: push further."))
+
+    def incomplete_because(self, snapshot: Any) -> str | None:
+        if self.live_markers and not snapshot.aads_covers_window:
+            return "bend did not cover the 6–20° fit window"
+        return None
+
 
 @dataclass
 class IsokineticProtocol(TrialProtocol):
@@ -183,14 +230,35 @@ class IsokineticProtocol(TrialProtocol):
         travel = abs(self.end_deg - self.start_deg)
         return travel / POSITIONING_SPEED_DEG_S + travel / self.speed_deg_s + 2.0 + 2 * self.settle_s
 
+    relaxation_monitored: ClassVar[bool] = True
+    joint: ClassVar[str] = ""
+
+    def sweep_deg(self) -> tuple[float, float, float] | None:
+        return self.start_deg, self.end_deg, self.speed_deg_s
+
+    def fixed_joint_text(self) -> str:
+        """The fixed joint's set-up, as the operator reads it."""
+        return ""
+
+    def checklist(self) -> list[str]:
+        return ["subject anthropometrics entered (mass, shank and foot length)",
+                f"dynamometer axis aligned with the {self.joint} joint centre",
+                f"seat and fixation set: {self.fixed_joint_text()}",
+                f"arm length and weight entered for gravity compensation ({self.arm_mass_kg:g} kg at {self.arm_com_m:g} m)",
+                "subject told to relax and not to resist; emergency stop within reach"]
+
 
 @dataclass
 class KneeProtocol(IsokineticProtocol):
     """Knee flexion from full extension to 90° at 5°/s; hip at 90, 55 or 15°."""
 
     name: ClassVar[str] = "knee"
+    joint: ClassVar[str] = "knee"
     hip_flexion_deg: float = 90.0
     ankle_dorsiflexion_deg: float = 0.0
+
+    def fixed_joint_text(self) -> str:
+        return f"hip at {self.hip_flexion_deg:g}°"
 
     def __post_init__(self) -> None:
         if self.hip_flexion_deg not in (90.0, 55.0, 15.0):
@@ -205,6 +273,7 @@ class AnkleProtocol(IsokineticProtocol):
     """Ankle from full dorsiflexion to plantarflexion at 5°/s; knee at 0, 45 or 90°."""
 
     name: ClassVar[str] = "ankle"
+    joint: ClassVar[str] = "ankle"
     start_deg: float = 15.0
     end_deg: float = -30.0
     knee_flexion_deg: float = 0.0
@@ -216,6 +285,9 @@ class AnkleProtocol(IsokineticProtocol):
 
     def condition(self) -> dict[str, Any]:
         return {"joint": "ankle", **asdict(self)}
+
+    def fixed_joint_text(self) -> str:
+        return f"knee at {self.knee_flexion_deg:g}°"
 
 
 @dataclass
@@ -273,6 +345,11 @@ class ReplicaProtocol(TrialProtocol):
 
     def expected_duration_s(self) -> float:
         return self.hold_windows()[-1][2]
+
+    def checklist(self) -> list[str]:
+        return ["hip locked at 90°, ankle at 0°",
+                "springs BFLH, BFSH, VASINT, RECFEM attached on their paths",
+                "shank can be lifted off the sensor for the tare"]
 
 
 PROTOCOLS: dict[str, type[TrialProtocol]] = {

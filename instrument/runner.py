@@ -24,7 +24,7 @@ from drivers.dynamometer.protocol import State
 
 from .acquisition import AcquisitionEngine
 from .errors import ProtocolError
-from .protocols import AadsProtocol, AnkleProtocol, IsokineticProtocol, KneeProtocol, ReplicaProtocol, TrialProtocol
+from .protocols import TrialProtocol
 from .relaxation import ActivationAlarm, RelaxationMonitor
 from .session import TrialOutcome, record_trial
 from .store import SessionStore
@@ -43,36 +43,19 @@ class SafetyLimits:
     def violations(self, protocol: TrialProtocol) -> list[str]:
         """Why ``protocol`` may not start under these limits (empty when it may)."""
         out = []
-        if isinstance(protocol, IsokineticProtocol):
-            lo, hi = sorted((protocol.start_deg, protocol.end_deg))
+        sweep = protocol.sweep_deg()
+        if sweep is not None:
+            lo, hi = sorted(sweep[:2])
             if lo < self.rom_deg[0] or hi > self.rom_deg[1]:
                 out.append(f"sweep {lo:g}…{hi:g}° leaves the range of motion {self.rom_deg[0]:g}…{self.rom_deg[1]:g}°")
-            if protocol.speed_deg_s > self.max_speed_deg_s:
-                out.append(f"speed {protocol.speed_deg_s:g}°/s exceeds {self.max_speed_deg_s:g}°/s")
+            if sweep[2] > self.max_speed_deg_s:
+                out.append(f"speed {sweep[2]:g}°/s exceeds {self.max_speed_deg_s:g}°/s")
         return out
 
 
 def checklist_for(protocol: TrialProtocol) -> list[str]:
-    """The set-up items the operator confirms before a trial of ``protocol``."""
-    if isinstance(protocol, (KneeProtocol, AnkleProtocol)):
-        joint = "knee" if isinstance(protocol, KneeProtocol) else "ankle"
-        fixed = (f"hip at {protocol.hip_flexion_deg:g}°" if isinstance(protocol, KneeProtocol)
-                 else f"knee at {protocol.knee_flexion_deg:g}°")
-        return ["subject anthropometrics entered (mass, shank and foot length)",
-                f"dynamometer axis aligned with the {joint} joint centre",
-                f"seat and fixation set: {fixed}",
-                f"arm length and weight entered for gravity compensation ({protocol.arm_mass_kg:g} kg at {protocol.arm_com_m:g} m)",
-                "subject told to relax and not to resist; emergency stop within reach"]
-    if isinstance(protocol, AadsProtocol):
-        return ["force plate zeroed with the AFO unloaded",
-                "AFO foot strapped to the plate (no heel lift or slip)",
-                f"spring {protocol.spring} fitted, hinge moves freely to the 21° stop",
-                "markers on foot, shank and spring hooks visible to the cameras"]
-    if isinstance(protocol, ReplicaProtocol):
-        return ["hip locked at 90°, ankle at 0°",
-                "springs BFLH, BFSH, VASINT, RECFEM attached on their paths",
-                "shank can be lifted off the sensor for the tare"]
-    return []
+    """The set-up items the operator confirms before a trial of ``protocol`` (the protocol's own list)."""
+    return protocol.checklist()
 
 
 @dataclass
@@ -132,7 +115,7 @@ class TrialRunner:
         self.engine = AcquisitionEngine(self.devices, ring_seconds=120.0,
                                         nominal_rates_hz={n: NOMINAL_RATES_HZ.get(n, 1000.0) for n in self.devices})
         self.monitor = monitor if monitor is not None else (
-            RelaxationMonitor() if isinstance(protocol, IsokineticProtocol) else None)
+            RelaxationMonitor() if protocol.relaxation_monitored else None)
         self.stop_event = threading.Event()
         self._state = LiveState()
         self._lock = threading.Lock()
@@ -230,9 +213,8 @@ class TrialRunner:
             return f"muscle activation detected at {a.angle_deg:.1f}° (t = {a.time_s:.1f} s, {a.excess_nm:+.1f} N·m)"
         if s.limit_breaches:
             return "limit breached: " + s.limit_breaches[0]
-        if isinstance(self.protocol, AadsProtocol) and self.protocol.live_markers and s.phase == "done" \
-                and not s.aads_covers_window:
-            return "bend did not cover the 6–20° fit window"
+        if s.phase == "done":
+            return self.protocol.incomplete_because(s)
         return None
 
     def _require_outcome(self) -> TrialOutcome:
@@ -336,10 +318,10 @@ class TrialRunner:
                 data, marks["dynamometer"] = self.engine.rings["dynamometer"].since(marks["dynamometer"])
                 if len(data["time_s"]):
                     self._check_dynamometer(data)
-            if isinstance(self.protocol, AadsProtocol) and time.monotonic() - last_aads > 0.25:
+            if self.protocol.live_aads_loop and time.monotonic() - last_aads > 0.25:
                 last_aads = time.monotonic()
                 self._update_aads()
-        if isinstance(self.protocol, AadsProtocol):
+        if self.protocol.live_aads_loop:
             self._update_aads()
 
     def _check_dynamometer(self, d: dict[str, np.ndarray]) -> None:
@@ -358,13 +340,14 @@ class TrialRunner:
                 self._state.limit_breaches.append(breach)
             self.emergency_stop(reason=breach)
             return
-        if self.monitor is not None and isinstance(self.protocol, IsokineticProtocol) and self.sweep_started.is_set():
+        sweep = self.protocol.sweep_deg()
+        if self.monitor is not None and sweep is not None and self.sweep_started.is_set():
             # only the isokinetic part: moving at the set speed (the start and stop transients are
             # the dynamometer's, not the subject's)
-            steady = np.abs(np.abs(vel) - self.protocol.speed_deg_s) < 0.2 * self.protocol.speed_deg_s
+            steady = np.abs(np.abs(vel) - sweep[2]) < 0.2 * sweep[2]
             # and away from the ends, where the arm accelerates (0.3 s of travel)
-            margin = 0.3 * self.protocol.speed_deg_s
-            lo, hi = sorted((self.protocol.start_deg, self.protocol.end_deg))
+            margin = 0.3 * sweep[2]
+            lo, hi = sorted(sweep[:2])
             steady &= (pos > lo + margin) & (pos < hi - margin)
             if "state" in d:
                 steady &= d["state"] == int(State.MOVING)

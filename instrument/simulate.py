@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 import time
 from contextlib import contextmanager
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import asdict, replace
 from typing import Any
 
@@ -19,10 +19,49 @@ from drivers.simulation.lab import LabConfig, SimulatedLab
 from drivers.simulation.replica_leg import ReplicaLeg
 from drivers.simulation.seated_leg import SeatedLeg
 
-from .protocols import AADS_SPRINGS_N_PER_M, AadsProtocol, AnkleProtocol, KneeProtocol, ReplicaProtocol, TrialProtocol
+from .protocols import AADS_SPRINGS_N_PER_M, TrialProtocol
 
 OPENERS = {"force_plate": open_force_plate, "dynamometer": open_dynamometer,
            "torque_sensor": open_torque_sensor, "mocap": open_marker_stream}
+
+
+def _afo_rig(protocol: Any, subject: dict[str, float], afo: AfoProperties | None) -> dict[str, Any]:
+    return {"afo": afo or AfoProperties(spring_n_per_m=protocol.spring_n_per_m), "operator": protocol.operator}
+
+
+def _seated_leg(protocol: Any, subject: dict[str, float], afo: AfoProperties | None) -> dict[str, Any]:
+    fixed = {"hip_flexion_deg": protocol.hip_flexion_deg}
+    fixed.update({"ankle_dorsiflexion_deg": protocol.ankle_dorsiflexion_deg} if protocol.joint == "knee"
+                 else {"knee_flexion_deg": protocol.knee_flexion_deg})
+    return {"leg": SeatedLeg(joint=protocol.joint, **fixed, **subject, arm_mass_kg=protocol.arm_mass_kg,
+                             arm_com_m=protocol.arm_com_m)}
+
+
+def _replica_rig(protocol: Any, subject: dict[str, float], afo: AfoProperties | None) -> dict[str, Any]:
+    return {"replica": ReplicaLeg(hold_angles_deg=protocol.angles_deg, hold_s=protocol.hold_s,
+                                  move_speed_deg_s=protocol.move_speed_deg_s)}
+
+
+def _afo_operator(protocol: Any, lab: SimulatedLab) -> None:
+    if protocol.unload is None:  # the simulated operator lifts the AFO off the plate for zeroing
+        protocol.unload = lambda off: setattr(lab.force_plate, "specimen_on_plate", not off)
+    protocol.duration_s = min(protocol.duration_s, lab.jig.profile.duration_s)
+
+
+def _replica_operator(protocol: Any, lab: SimulatedLab) -> None:
+    if protocol.unload is None:  # the simulated operator's hand: shank off the sensor for the tare, then back on
+        protocol.unload = lambda off: setattr(lab.torque_sensor, "shank_attached", not off)
+    if protocol.first_hold_at_s is None:
+        # start at the next cycle of the replica rig's schedule (the simulator's time origin)
+        t0 = lab.torque_sensor._t0
+        period = protocol.hold_windows()[-1][2] + abs(protocol.angles_deg[-1] - protocol.angles_deg[0]) / protocol.move_speed_deg_s
+        protocol.first_hold_at_s = t0 + math.ceil((time.monotonic() + 0.3 - t0) / period) * period
+
+
+#: the simulated rig (what LabConfig gets) and the simulated operator's hand, per trial kind
+SIMULATED_RIG: dict[str, Callable[[Any, dict[str, float], AfoProperties | None], dict[str, Any]]] = {
+    "aads": _afo_rig, "knee": _seated_leg, "ankle": _seated_leg, "replica": _replica_rig}
+SIMULATED_OPERATOR: dict[str, Callable[[Any, SimulatedLab], None]] = {"aads": _afo_operator, "replica": _replica_operator}
 
 
 def lab_config_for(protocol: TrialProtocol, *, seed: int = 0, faults: FaultConfig | None = None,
@@ -31,22 +70,8 @@ def lab_config_for(protocol: TrialProtocol, *, seed: int = 0, faults: FaultConfi
     """The simulated rig and subject for ``protocol``."""
     f = faults or FaultConfig()
     cfg: dict[str, Any] = {"seed": seed, "plate_faults": f, "dyno_faults": f, "torque_faults": f}
-    if isinstance(protocol, AadsProtocol):
-        cfg["afo"] = afo or AfoProperties(spring_n_per_m=protocol.spring_n_per_m)
-        cfg["operator"] = protocol.operator
-    elif isinstance(protocol, KneeProtocol):
-        cfg["leg"] = SeatedLeg(joint="knee", hip_flexion_deg=protocol.hip_flexion_deg,
-                               ankle_dorsiflexion_deg=protocol.ankle_dorsiflexion_deg, body_mass_kg=body_mass_kg,
-                               shank_length_m=shank_length_m, foot_length_m=foot_length_m,
-                               arm_mass_kg=protocol.arm_mass_kg, arm_com_m=protocol.arm_com_m)
-    elif isinstance(protocol, AnkleProtocol):
-        cfg["leg"] = SeatedLeg(joint="ankle", hip_flexion_deg=protocol.hip_flexion_deg,
-                               knee_flexion_deg=protocol.knee_flexion_deg, body_mass_kg=body_mass_kg,
-                               shank_length_m=shank_length_m, foot_length_m=foot_length_m,
-                               arm_mass_kg=protocol.arm_mass_kg, arm_com_m=protocol.arm_com_m)
-    elif isinstance(protocol, ReplicaProtocol):
-        cfg["replica"] = ReplicaLeg(hold_angles_deg=protocol.angles_deg, hold_s=protocol.hold_s,
-                                    move_speed_deg_s=protocol.move_speed_deg_s)
+    subject = {"body_mass_kg": body_mass_kg, "shank_length_m": shank_length_m, "foot_length_m": foot_length_m}
+    cfg.update(SIMULATED_RIG[protocol.name](protocol, subject, afo))
     return LabConfig(**cfg)
 
 
@@ -59,19 +84,9 @@ def simulated_devices(protocol: TrialProtocol, config: LabConfig | None = None) 
     # loaded host a 50 ms poll timeout (the real link's) counts scheduler delays as lost polls
     urls = {**lab.urls, "torque_sensor": lab.urls["torque_sensor"] + "&timeout=0.25"}
     devices = {name: OPENERS[name](urls[name]) for name in protocol.devices}
-    if isinstance(protocol, AadsProtocol) and protocol.unload is None:
-        # the simulated operator lifts the AFO off the plate for zeroing
-        protocol.unload = lambda off: setattr(lab.force_plate, "specimen_on_plate", not off)
-    if isinstance(protocol, ReplicaProtocol) and protocol.unload is None:
-        # the simulated operator's hand: shank off the sensor for the tare, then back on
-        protocol.unload = lambda off: setattr(lab.torque_sensor, "shank_attached", not off)
-    if isinstance(protocol, ReplicaProtocol) and protocol.first_hold_at_s is None:
-        # start at the next cycle of the replica rig's schedule (the simulator's time origin)
-        t0 = lab.torque_sensor._t0
-        period = protocol.hold_windows()[-1][2] + abs(protocol.angles_deg[-1] - protocol.angles_deg[0]) / protocol.move_speed_deg_s
-        protocol.first_hold_at_s = t0 + math.ceil((time.monotonic() + 0.3 - t0) / period) * period
-    if isinstance(protocol, AadsProtocol):
-        protocol.duration_s = min(protocol.duration_s, lab.jig.profile.duration_s)
+    operator = SIMULATED_OPERATOR.get(protocol.name)
+    if operator is not None:
+        operator(protocol, lab)
     try:
         yield lab, devices
     finally:

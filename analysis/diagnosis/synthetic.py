@@ -11,7 +11,6 @@ Angles in degrees at the edges only.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 

@@ -18,6 +18,7 @@ import pyqtgraph as pg
 from PySide6 import QtCore, QtGui, QtWidgets
 
 from ..acquisition import AcquisitionEngine
+from ..analyses import analyse_set
 from ..protocols import AADS_SPRINGS_N_PER_M, AadsProtocol, AnkleProtocol, KneeProtocol, \
     ReplicaProtocol, TrialProtocol
 from ..runner import Checklist, SafetyLimits, TrialRunner, checklist_for
@@ -452,17 +453,8 @@ class MainWindow(QtWidgets.QMainWindow):
                 a = snap.alarms[-1]
                 self.verdict.setText(f"ACTIVATION flagged at {a.angle_deg:.1f}° ({a.excess_nm:+.1f} N·m): "
                                      "the trial will be offered for repeat.")
-            elif snap.phase == "running" and isinstance(runner.protocol, AadsProtocol) and not runner.protocol.live_markers:
-                self.verdict.setText("Recording AADS, force-guided: bend until the plate's load peaks and return; the "
-                                     "angle comes from the motion-capture system's C3D export "
-                                     "(instrument analyze afo FILE.c3d).")
-            elif snap.phase == "running" and isinstance(runner.protocol, AadsProtocol) and snap.aads_angle_deg.size:
-                if snap.aads_past_stop:
-                    self.verdict.setText(f"WARNING: bent to {snap.aads_peak_deg:.1f}°, past the 21° stop: "
-                                         "ease off (the stop adds its own stiffness).")
-                else:
-                    self.verdict.setText(f"Recording AADS … peak {snap.aads_peak_deg:.1f}°; fit window 6–20° "
-                                         + ("covered." if snap.aads_covers_window else "not covered yet: push further."))
+            elif snap.phase == "running" and (hint := runner.protocol.live_hint(snap)):
+                self.verdict.setText(hint)
             elif snap.phase == "running" and not self.verdict.text().startswith(("Recording", "EMERGENCY")):
                 self.verdict.setText(f"Recording {runner.protocol.name} …")
 
@@ -563,55 +555,6 @@ class MainWindow(QtWidgets.QMainWindow):
             self.monitor_engine.stop()
             self.monitor_engine.close()
         super().closeEvent(event)
-
-
-def analyse_set(protocol: TrialProtocol, store_root: Any, trial_id: int, subject: dict[str, float]) -> str:
-    """The analysis of the set the accepted trial belongs to, as text (runs on a worker thread)."""
-    from ..export import trial_table
-    from ..recording import read_trial
-
-    store = SessionStore(store_root, read_only=True, recover=False)
-    try:
-        rec = store.trial(trial_id)
-        same = [t for t in store.trials(protocol=protocol.name) if t.session_id == rec.session_id
-                and t.status == "accepted"]
-        if isinstance(protocol, AadsProtocol) and not protocol.live_markers:
-            return ("force-guided AADS trial recorded; its stiffness needs the markers: export the C3D from the "
-                    "motion-capture system and run `instrument analyze afo FILE.c3d`.")
-        if isinstance(protocol, AadsProtocol):
-            from analysis.aads.model import load_jig_model
-
-            from ..afo import analyze_afo, resolve_trials
-
-            model = load_jig_model()
-            ids = [str(t.id) for t in same if t.condition.get("spring") == protocol.spring]
-            exp = analyze_afo(resolve_trials(ids, store, model=model), model)
-            k = [r.stiffness_nm_per_deg for r in exp.results]
-            lines = [f"spring {protocol.spring}: {len(k)} accepted trial(s), stiffness "
-                     f"{np.nanmean(k):.3f} ± {np.nanstd(k):.3f} N·m/° (fit 6–20°)"]
-            return "\n".join(lines)
-        tables = [trial_table(read_trial(t.path), store.subject(t.subject_code).as_dict()) for t in same]
-        from analysis.diagnosis import diagnose, from_table
-
-        diag = diagnose(from_table(tables[-1])).text().splitlines()[0] if tables else ""
-        if isinstance(protocol, ReplicaProtocol):
-            from analysis.pmp.replica import text
-
-            from ..replica import analyze_replica
-
-            result, truth, _ = analyze_replica(tables, [read_trial(t.path).metadata for t in same], None, None)
-            return text(result, truth) + ("\ndiagnosis: " + diag if diag else "")
-        from analysis.errors import AnalysisError
-        from analysis.pmp.report import analyse, subject_from, text as pmp_text, trial_from_table
-
-        try:  # a fit that does not converge says so in its own text (success=False)
-            report = analyse([trial_from_table(t) for t in tables], subject_from(subject), intervals=16)
-            fitted = pmp_text(report)
-        except AnalysisError as err:  # missing anthropometrics, a rejected trial, ...: say so, show the diagnosis
-            fitted = f"passive parameters not fitted: {err}"
-        return fitted + ("\ndiagnosis: " + diag if diag else "")
-    finally:
-        store.close()
 
 
 __all__ = ["MainWindow", "FrameCounter", "analyse_set", "PROTOCOL_NAMES"]

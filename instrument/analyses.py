@@ -1,0 +1,89 @@
+"""Which analysis runs on a set of accepted trials of one kind, as text for the operator (Qt-free).
+
+``SET_ANALYSES`` is keyed by the trial kind (the protocol's ``name``); the GUI runs
+:func:`analyse_set` on a worker thread after each accepted trial, the same code the CLI's
+``analyze`` commands call underneath.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from .protocols import TrialProtocol
+from .store import SessionStore, TrialRecord
+
+
+def _aads_set(protocol: Any, store: SessionStore, same: list[TrialRecord], subject: dict[str, float]) -> str:
+    if not protocol.live_markers:
+        return ("force-guided AADS trial recorded; its stiffness needs the markers: export the C3D from the "
+                "motion-capture system and run `instrument analyze afo FILE.c3d`.")
+    from analysis.aads.model import load_jig_model
+
+    from .afo import analyze_afo, resolve_trials
+
+    model = load_jig_model()
+    ids = [str(t.id) for t in same if t.condition.get("spring") == protocol.spring]
+    exp = analyze_afo(resolve_trials(ids, store, model=model), model)
+    k = [r.stiffness_nm_per_deg for r in exp.results]
+    return (f"spring {protocol.spring}: {len(k)} accepted trial(s), stiffness "
+            f"{np.nanmean(k):.3f} ± {np.nanstd(k):.3f} N·m/° (fit 6–20°)")
+
+
+def _tables(store: SessionStore, same: list[TrialRecord]) -> list[Any]:
+    from .export import trial_table
+    from .recording import read_trial
+
+    return [trial_table(read_trial(t.path), store.subject(t.subject_code).as_dict()) for t in same]
+
+
+def _diagnosis_line(tables: list[Any]) -> str:
+    from analysis.diagnosis import diagnose, from_table
+
+    return ("\ndiagnosis: " + diagnose(from_table(tables[-1])).text().splitlines()[0]) if tables else ""
+
+
+def _replica_set(protocol: Any, store: SessionStore, same: list[TrialRecord], subject: dict[str, float]) -> str:
+    from analysis.pmp.replica import text
+
+    from .recording import read_trial
+    from .replica import analyze_replica
+
+    tables = _tables(store, same)
+    result, truth, _ = analyze_replica(tables, [read_trial(t.path).metadata for t in same], None, None)
+    return text(result, truth) + _diagnosis_line(tables)
+
+
+def _passive_set(protocol: Any, store: SessionStore, same: list[TrialRecord], subject: dict[str, float]) -> str:
+    from analysis.errors import AnalysisError
+    from analysis.pmp.report import analyse, subject_from, text, trial_from_table
+
+    tables = _tables(store, same)
+    try:  # a fit that does not converge says so in its own text (success=False)
+        report = analyse([trial_from_table(t) for t in tables], subject_from(subject), intervals=16)
+        fitted = text(report)
+    except AnalysisError as err:  # missing anthropometrics, a rejected trial, ...: say so, show the diagnosis
+        fitted = f"passive parameters not fitted: {err}"
+    return fitted + _diagnosis_line(tables)
+
+
+#: the analysis of a set of accepted trials, per trial kind
+SET_ANALYSES: dict[str, Callable[[Any, SessionStore, list[TrialRecord], dict[str, float]], str]] = {
+    "aads": _aads_set, "knee": _passive_set, "ankle": _passive_set, "replica": _replica_set}
+
+
+def analyse_set(protocol: TrialProtocol, store_root: Any, trial_id: int, subject: dict[str, float]) -> str:
+    """The analysis of the set the accepted trial belongs to (its session's accepted trials of this kind), as text."""
+    store = SessionStore(store_root, read_only=True, recover=False)
+    try:
+        rec = store.trial(trial_id)
+        same = [t for t in store.trials(protocol=protocol.name) if t.session_id == rec.session_id
+                and t.status == "accepted"]
+        return SET_ANALYSES[protocol.name](protocol, store, same, subject)
+    finally:
+        store.close()
+
+
+__all__ = ["SET_ANALYSES", "analyse_set"]
