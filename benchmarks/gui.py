@@ -28,7 +28,7 @@ def _stream_and_measure(seconds: float) -> dict[str, Any]:
     from drivers.simulation.lab import LabConfig, SimulatedLab
     from instrument.acquisition import AcquisitionEngine
     from instrument.gui.window import REFRESH_HZ, MainWindow
-    from instrument.runner import NOMINAL_RATES_HZ
+    from instrument.acquisition import NOMINAL_RATES_HZ
     from instrument.simulate import OPENERS
     from instrument.sources import SimulatedSource
     from instrument.store import SessionStore

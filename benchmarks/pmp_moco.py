@@ -24,6 +24,8 @@ from typing import Any
 
 import numpy as np
 
+from analysis.constants import GRAVITY_M_S2
+
 MASS_KG = 3.5
 COM_M = 0.25              # below the knee pin along the shank
 INERTIA_COM_KGM2 = 0.06
@@ -35,7 +37,7 @@ PASSIVE_STRAIN = 0.6
 SLACK_TRUE_M = 0.280
 SLACK_GENERIC_M = 0.270
 INTERVALS = 50
-G = 9.81
+G = GRAVITY_M_S2
 
 
 def path_length(q: Any, backend: Any = np) -> Any:

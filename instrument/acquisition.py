@@ -80,19 +80,24 @@ class DeviceReport:
                 "gaps": int(self.stats.get("gaps", 0))}
 
 
+#: the devices' nominal sample rates (Hz), which size the ring buffers; one definition
+NOMINAL_RATES_HZ = {"force_plate": 1000.0, "torque_sensor": 500.0, "dynamometer": 100.0, "mocap": 100.0}
+
+
 class AcquisitionEngine:
     """Runs ``devices`` together, recording to ``writer`` (optional) and filling ring buffers.
 
     :param devices: name → opened-or-not driver (names become the trial's device names).
     :param ring_seconds: history each ring buffer holds, at the device's nominal rate.
-    :param nominal_rates_hz: name → rate used to size the ring buffers (default 1000 Hz).
+    :param nominal_rates_hz: name → rate used to size the ring buffers, over :data:`NOMINAL_RATES_HZ`
+        (a device named in neither: 1000 Hz).
     """
 
     def __init__(self, devices: dict[str, StreamingDevice], *, ring_seconds: float = 30.0,
                  nominal_rates_hz: dict[str, float] | None = None) -> None:
         self.devices = devices
         self.ring_seconds = ring_seconds
-        self.nominal_rates_hz = nominal_rates_hz or {}
+        self.nominal_rates_hz = {**NOMINAL_RATES_HZ, **(nominal_rates_hz or {})}
         self.rings: dict[str, RingBuffer] = {}
         self.reports = {n: DeviceReport(n) for n in devices}
         self.writer: TrialWriter | None = None

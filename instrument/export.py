@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 
 from analysis.c3d import write_c3d
+from analysis.constants import GRAVITY_M_S2
 from analysis.motion import MotionTrial
 from analysis.sto import write_sto
 from analysis.timebase import resample, uniform_grid
@@ -22,7 +23,7 @@ from analysis.trial_csv import TrialTable, write_trial_csv
 from .errors import RecordingError
 from .recording import TrialFile
 
-G = 9.81
+G = GRAVITY_M_S2
 FORMATS = ("sto", "csv", "c3d")
 
 

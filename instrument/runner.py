@@ -20,6 +20,11 @@ from typing import Any, Callable
 import numpy as np
 
 from drivers import Dynamometer, StreamingDevice
+from drivers.dynamometer import (
+    SUBJECT_ENVELOPE_DEG,
+    SUBJECT_MAX_SPEED_DEG_S,
+    SUBJECT_MAX_TORQUE_NM,
+)
 from drivers.dynamometer.protocol import State
 
 from .acquisition import AcquisitionEngine
@@ -29,16 +34,15 @@ from .relaxation import ActivationAlarm, RelaxationMonitor
 from .session import TrialOutcome, record_trial
 from .store import SessionStore
 
-NOMINAL_RATES_HZ = {"force_plate": 1000.0, "torque_sensor": 500.0, "dynamometer": 100.0, "mocap": 100.0}
 
 
 @dataclass(frozen=True)
 class SafetyLimits:
     """What the dynamometer may do with a subject: range of motion (deg), speed (deg/s), torque (N·m)."""
 
-    rom_deg: tuple[float, float] = (-35.0, 95.0)
-    max_speed_deg_s: float = 30.0
-    max_torque_nm: float = 150.0
+    rom_deg: tuple[float, float] = SUBJECT_ENVELOPE_DEG
+    max_speed_deg_s: float = SUBJECT_MAX_SPEED_DEG_S
+    max_torque_nm: float = SUBJECT_MAX_TORQUE_NM
 
     def violations(self, protocol: TrialProtocol) -> list[str]:
         """Why ``protocol`` may not start under these limits (empty when it may)."""
@@ -112,8 +116,7 @@ class TrialRunner:
         self.operator, self.trial_number, self.extra_metadata = operator, trial_number, extra_metadata
         if hasattr(protocol, "max_torque_nm"):  # the device's own ceiling: the stricter of the two
             protocol.max_torque_nm = min(protocol.max_torque_nm, self.limits.max_torque_nm)
-        self.engine = AcquisitionEngine(self.devices, ring_seconds=120.0,
-                                        nominal_rates_hz={n: NOMINAL_RATES_HZ.get(n, 1000.0) for n in self.devices})
+        self.engine = AcquisitionEngine(self.devices, ring_seconds=120.0)
         self.monitor = monitor if monitor is not None else (
             RelaxationMonitor() if protocol.relaxation_monitored else None)
         self.stop_event = threading.Event()

@@ -67,8 +67,7 @@ def record_trial(store: SessionStore, session_id: int, protocol: TrialProtocol,
     if missing:
         raise RecordingError(f"protocol {protocol.name!r} needs device(s) {missing}")
     stop = stop or threading.Event()
-    engine = engine or AcquisitionEngine({n: devices[n] for n in protocol.devices},
-                                         nominal_rates_hz={"force_plate": 1000.0, "torque_sensor": 500.0})
+    engine = engine or AcquisitionEngine({n: devices[n] for n in protocol.devices})
     engine.open()
     try:
         protocol.prepare(engine.devices)

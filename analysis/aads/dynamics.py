@@ -30,13 +30,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..constants import GRAVITY_M_S2
 from ..errors import InputError
 from ..filtering import lowpass
 from ..motion import MotionTrial
 from .kinematics import AadsKinematics, SegmentMotion
 from .model import JigModel
 
-G_M_S2 = np.array([0.0, 0.0, -9.81])
+G_M_S2 = np.array([0.0, 0.0, -GRAVITY_M_S2])
 
 
 def _skew(v: np.ndarray) -> np.ndarray:

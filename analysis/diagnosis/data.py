@@ -16,10 +16,11 @@ from typing import Any
 import numpy as np
 from scipy.signal import savgol_filter
 
+from ..constants import GRAVITY_M_S2
 from ..errors import InputError
 from ..trial_csv import KINDS, TrialTable
 
-G_M_S2 = 9.81
+G_M_S2 = GRAVITY_M_S2
 
 
 @dataclass

@@ -29,12 +29,13 @@ from typing import Any
 
 import numpy as np
 
+from ..constants import GRAVITY_M_S2
 from ..errors import InputError
 from .curves import passive_fiber_force, tendon_force
 from .geometry import MUSCLES
 from .muscles import COMPLIANT, LegMuscles
 
-G = 9.81
+G = GRAVITY_M_S2
 SIGMA_Q_RAD = np.deg2rad(0.5)
 SIGMA_V_RAD_S = np.deg2rad(2.0)
 SIGMA_U_NM = 0.5

@@ -37,9 +37,10 @@ import numpy as np
 from scipy import stats
 from scipy.integrate import solve_ivp
 
+from ..constants import GRAVITY_M_S2
 from ..errors import DataFileError, FitError, InputError
 
-G = 9.81
+G = GRAVITY_M_S2
 DEFAULT_MODEL = Path(__file__).with_name("data") / "replica_leg.toml"
 SOFTPLUS_WIDTH_M = 2e-4
 REGULARISATION = 1e-3

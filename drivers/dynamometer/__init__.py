@@ -118,7 +118,12 @@ class DynamometerLimits:
 
 
 #: a conservative default for a relaxed-subject passive test: 0–100°, 30°/s, 150 N·m
-DEFAULT_LIMITS = DynamometerLimits.from_degrees(-40.0, 100.0, 30.0, 150.0)
+#: the subject's safety envelope (range of motion °, speed °/s, torque N·m): the one definition the
+#: driver, the simulator's defaults and the runner's live checks all use
+SUBJECT_ENVELOPE_DEG = (-35.0, 95.0)
+SUBJECT_MAX_SPEED_DEG_S = 30.0
+SUBJECT_MAX_TORQUE_NM = 150.0
+DEFAULT_LIMITS = DynamometerLimits.from_degrees(*SUBJECT_ENVELOPE_DEG, SUBJECT_MAX_SPEED_DEG_S, SUBJECT_MAX_TORQUE_NM)
 
 
 class Dynamometer(StreamingDevice):

@@ -26,7 +26,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-G = np.array([0.0, 0.0, -9.81])  # m/s²
+from analysis.constants import GRAVITY_M_S2
+
+G = np.array([0.0, 0.0, -GRAVITY_M_S2])  # m/s²
 
 
 def _rot_y(theta: np.ndarray) -> np.ndarray:

@@ -25,7 +25,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-G = 9.81
+from analysis.constants import GRAVITY_M_S2
+
+G = GRAVITY_M_S2
 
 
 @dataclass(frozen=True)

@@ -19,7 +19,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-G = 9.81
+from analysis.constants import GRAVITY_M_S2
+
+G = GRAVITY_M_S2
 
 
 def riener_knee_flexion_moment_nm(hip_deg: float, knee_deg: np.ndarray, ankle_df_deg: float) -> np.ndarray:
