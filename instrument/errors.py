@@ -9,12 +9,13 @@
  ├── ``RecordingError``           a trial file could not be written or read
  │    ├── ``DiskFullError``       the disk (or file-size limit) is full; data up to the last flush is kept
  │    └── ``CorruptFileError``    a data file (trial, C3D, CSV) is unreadable; names the file and the defect
+ │                                (also the analysis layer's ``DataFileError``: one class for one defect)
  └── ``ProtocolError``            a trial protocol cannot run as configured
 """
 
 from __future__ import annotations
 
-from pathlib import Path
+from analysis.errors import DataFileError
 
 
 class InstrumentError(Exception):
@@ -52,17 +53,9 @@ class DiskFullError(RecordingError, OSError):
     """No space (or file-size limit) left while recording; everything up to the last flush is on disk."""
 
 
-class CorruptFileError(RecordingError):
-    """A data file is unreadable.
-
-    :param path: the file.
-    :param defect: what is wrong with it.
-    """
-
-    def __init__(self, path: str | Path, defect: str) -> None:
-        self.path = Path(path)
-        self.defect = defect
-        super().__init__(f"{self.path}: {defect}")
+class CorruptFileError(RecordingError, DataFileError):
+    """A data file is unreadable: ``path`` and ``defect`` as the analysis layer's :class:`DataFileError`
+    (it is one, so a reader of either layer catches it)."""
 
 
 class ProtocolError(InstrumentError, ValueError):
