@@ -18,8 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from analysis.aads.dynamics import (jig_equations, plate_at_markers, static_optimisation,
-                                    static_optimisation_per_frame)
+from analysis.aads.dynamics import jig_equations, plate_at_markers, static_optimisation, static_optimisation_per_frame
 from analysis.aads.kinematics import aads_kinematics
 from analysis.aads.model import load_jig_model
 from analysis.aads.pipeline import analyze_trial

@@ -26,9 +26,8 @@ def _stream_and_measure(seconds: float) -> dict[str, Any]:
     from PySide6 import QtCore, QtWidgets
 
     from drivers.simulation.lab import LabConfig, SimulatedLab
-    from instrument.acquisition import AcquisitionEngine
+    from instrument.acquisition import NOMINAL_RATES_HZ, AcquisitionEngine
     from instrument.gui.window import REFRESH_HZ, MainWindow
-    from instrument.acquisition import NOMINAL_RATES_HZ
     from instrument.simulate import OPENERS
     from instrument.sources import SimulatedSource
     from instrument.store import SessionStore

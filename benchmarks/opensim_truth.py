@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 from scipy.interpolate import CubicSpline
 
+
 def _find_model() -> Path:
     """The generic model beside the repo (``../shared/models``), the workspace's shared copy, or
     ``INSTRUMENT_OSIM_MODEL``; the first that exists (else the first candidate, reported missing)."""

@@ -27,8 +27,8 @@ from .clock import monotonic_s
 from .errors import (
     ConnectionLostError,
     CounterResyncError,
-    DeviceOperationError,
     DeviceInitializationError,
+    DeviceOperationError,
     DeviceTimeoutError,
     DriverError,
 )
@@ -309,7 +309,7 @@ class StreamingDevice(ABC):
             last, seen = c, True
         s.last_counter, s.last_counter_valid = int(last), seen
         if not keep.all():
-            block = type(block)(**{
+            block = type(block)(**{  # type: ignore[arg-type]  # the same fields, rows kept
                 f: (v[keep] if isinstance(v, np.ndarray) else v)
                 for f, v in vars(block).items()
             })

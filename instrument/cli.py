@@ -15,7 +15,6 @@ from drivers.errors import DriverError, LimitViolationError
 
 from .errors import InstrumentError, ProtocolError
 
-
 #: the fastest sweep the command line may ask for: the driver's default envelope
 _MAX_SPEED_DEG_S = math.degrees(DEFAULT_LIMITS.max_speed_rad_s)
 

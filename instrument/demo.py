@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from drivers import open_dynamometer, open_force_plate, open_torque_sensor
+from drivers import Dynamometer, open_dynamometer, open_force_plate, open_torque_sensor
 from drivers.dynamometer import protocol as dyn_protocol
 from drivers.forceplate import protocol as fp_protocol
 from drivers.simulation.faults import FaultConfig
@@ -38,6 +38,7 @@ def run_streams(seconds: float, config: LabConfig | None = None) -> tuple[dict[s
             "torque_sensor": open_torque_sensor(lab.urls["torque_sensor"]),
         }
         dyno = devices["dynamometer"]
+        assert isinstance(dyno, Dynamometer)
         dyno.open()
         dyno.set_passive_isokinetic(math.radians(5.0))
         dyno.set_range_of_motion(0.0, math.radians(90.0))
@@ -313,6 +314,7 @@ def operator_drill(out: Path) -> tuple[dict[str, Any], bool]:
             latency_ms = None
             if case == "estop":
                 time.sleep(0.5)
+                assert source.lab is not None
                 sim = source.lab.dynamometer
                 t0 = time.perf_counter()
                 runner.emergency_stop("drill")

@@ -19,7 +19,7 @@ from abc import ABC, abstractmethod
 from dataclasses import asdict, dataclass, field
 from typing import Any, Callable, ClassVar
 
-from drivers import Dynamometer, DriverError, StreamingDevice
+from drivers import DriverError, Dynamometer, StreamingDevice
 from drivers.dynamometer import DEFAULT_LIMITS
 
 from .errors import ProtocolError

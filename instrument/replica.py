@@ -8,7 +8,14 @@ from typing import Any
 import numpy as np
 
 from analysis.errors import InputError
-from analysis.pmp.replica import Holds, ReplicaResult, estimate_replica, holds_from_samples, load_replica_model, write_plots
+from analysis.pmp.replica import (
+    Holds,
+    ReplicaResult,
+    estimate_replica,
+    holds_from_samples,
+    load_replica_model,
+    write_plots,
+)
 from analysis.trial_csv import TrialTable
 
 

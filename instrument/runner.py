@@ -35,7 +35,6 @@ from .session import TrialOutcome, record_trial
 from .store import SessionStore
 
 
-
 @dataclass(frozen=True)
 class SafetyLimits:
     """What the dynamometer may do with a subject: range of motion (deg), speed (deg/s), torque (N·m)."""

@@ -39,7 +39,8 @@ class TrialOutcome:
 
 def settings_snapshot(protocol: TrialProtocol, extra: dict[str, Any] | None = None) -> dict[str, Any]:
     """Everything that defines how a trial was taken (as QCoDeS's station snapshot)."""
-    proto = {k: v for k, v in (asdict(protocol) if is_dataclass(protocol) else {}).items() if not callable(v)}
+    fields: dict[str, Any] = asdict(protocol) if is_dataclass(protocol) else {}  # type: ignore[arg-type]
+    proto = {k: v for k, v in fields.items() if not callable(v)}
     return {
         "software": {"name": "afo-gait-instrument", "version": __version__, "python": platform.python_version(),
                      "numpy": np.__version__, "h5py": h5py.__version__, "hdf5": h5py.version.hdf5_version},
@@ -101,12 +102,12 @@ def record_trial(store: SessionStore, session_id: int, protocol: TrialProtocol,
             reports = engine.stop()
     counts = {n: r.counts() for n, r in reports.items()}
     if engine.recording_error is not None or writer.error is not None:
-        err = writer.error or engine.recording_error
+        failure = writer.error or engine.recording_error
         writer.abort()
-        if isinstance(err, DiskFullError):
+        if isinstance(failure, DiskFullError):
             store.release_reserve()  # room for the index to say what happened
-        store.finish_trial(trial_id, "failed", counts, reason=str(err))
-        raise err if isinstance(err, RecordingError) else RecordingError(str(err))
+        store.finish_trial(trial_id, "failed", counts, reason=str(failure))
+        raise failure if isinstance(failure, RecordingError) else RecordingError(str(failure))
     lost_links = {n: r for n, r in reports.items() if any(ConnectionLostError.__name__ in e for e in r.errors)}
     status, reason = "recorded", None
     if stop.is_set():

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import math
 import time
-from contextlib import contextmanager
 from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import asdict, replace
 from typing import Any
 
@@ -29,8 +29,8 @@ def _afo_rig(protocol: Any, subject: dict[str, float], afo: AfoProperties | None
     return {"afo": afo or AfoProperties(spring_n_per_m=protocol.spring_n_per_m), "operator": protocol.operator}
 
 
-def _seated_leg(protocol: Any, subject: dict[str, float], afo: AfoProperties | None) -> dict[str, Any]:
-    fixed = {"hip_flexion_deg": protocol.hip_flexion_deg}
+def _seated_leg(protocol: Any, subject: dict[str, Any], afo: AfoProperties | None) -> dict[str, Any]:
+    fixed: dict[str, Any] = {"hip_flexion_deg": protocol.hip_flexion_deg}
     fixed.update({"ankle_dorsiflexion_deg": protocol.ankle_dorsiflexion_deg} if protocol.joint == "knee"
                  else {"knee_flexion_deg": protocol.knee_flexion_deg})
     return {"leg": SeatedLeg(joint=protocol.joint, **fixed, **subject, arm_mass_kg=protocol.arm_mass_kg,

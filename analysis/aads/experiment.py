@@ -14,8 +14,15 @@ from ..errors import AnalysisError, FitError
 from ..motion import MotionTrial
 from .model import JigModel
 from .pipeline import AadsTrialResult, analyze_trial
-from .statistics import (AnovaRow, SpringRow, StiffnessRecord, anova_table, format_anova_table, format_spring_table,
-                         spring_table)
+from .statistics import (
+    AnovaRow,
+    SpringRow,
+    StiffnessRecord,
+    anova_table,
+    format_anova_table,
+    format_spring_table,
+    spring_table,
+)
 
 
 @dataclass
@@ -84,7 +91,8 @@ def records_of(results: Iterable[AadsTrialResult], *, complete: bool = True) -> 
 
 def analyze_experiment(trials: Iterable[TrialInput], model: JigModel) -> AadsExperiment:
     """Analyse every trial; a trial that cannot be analysed is listed in ``failed``, never dropped silently."""
-    results, failed = [], {}
+    results: list[Any] = []
+    failed: dict[str, str] = {}
     for t in trials:
         try:
             results.append(analyze_trial(t.motion, model, spring_n_per_m=t.spring_n_per_m, factors=t.factors))

@@ -34,8 +34,19 @@ from typing import Any
 import numpy as np
 from scipy.optimize import minimize, minimize_scalar
 
-from .causes import (ARGUMENT_CAUSES, CAUSES, SEPARATE_BY, UNTESTABLE_HINT, Cause, Prepared, _nl_count, baseline_columns,
-                     burst_bounds, compound, normal_lstsq)
+from .causes import (
+    ARGUMENT_CAUSES,
+    CAUSES,
+    SEPARATE_BY,
+    UNTESTABLE_HINT,
+    Cause,
+    Prepared,
+    _nl_count,
+    baseline_columns,
+    burst_bounds,
+    compound,
+    normal_lstsq,
+)
 from .data import DiagnosisTrial
 
 

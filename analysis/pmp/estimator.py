@@ -284,7 +284,7 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
         if n_ext:
             moment = moment + extension.moment(t, qs, vs, ext_par, gravity)
         lts = ca.vertcat(*calf) if calf else ca.SX.sym("lt", 0)
-        lt = opti.variable(len(calf), n_pts) if calf else None
+        lt: Any = opti.variable(len(calf), n_pts) if calf else None
         if calf:
             opti.set_initial(lt, 1.01)
             opti.subject_to(opti.bounded(0.99, lt, 1.2))

@@ -19,7 +19,6 @@ from functools import lru_cache
 from importlib import resources
 from typing import Any
 
-
 MUSCLES = ("bflh", "bfsh", "gaslat", "gasmed", "soleus", "semimem", "semiten", "vasint", "vaslat", "vasmed", "recfem")
 JOINTS = ("hip", "knee", "ankle")
 

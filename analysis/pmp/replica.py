@@ -332,8 +332,9 @@ def estimate_replica(holds: Holds, model: ReplicaModel | None = None, *, starts:
     fit_offset = sensor_offset_nm is None
     if holds.knee_rad.size < n_par + fit_offset:
         raise InputError(f"{holds.knee_rad.size} holds cannot determine {n_par} spring parameters and the sensor zero")
-    lo = np.append(lo, -5.0 if fit_offset else sensor_offset_nm)
-    hi = np.append(hi, 5.0 if fit_offset else sensor_offset_nm)
+    zero = 0.0 if sensor_offset_nm is None else float(sensor_offset_nm)
+    lo = np.append(lo, -5.0 if fit_offset else zero)
+    hi = np.append(hi, 5.0 if fit_offset else zero)
     x = ca.SX.sym("x", n_par + 1)  # relative spring parameters, then the sensor zero (N·m)
     resid = ca.vertcat(*[torque_fn(qq, x[:n_par], width) for qq in holds.knee_rad]) + x[n_par] - holds.torque_nm
     cost = ca.sumsqr(resid / sigma_nm) / holds.knee_rad.size + REGULARISATION * ca.sumsqr(x[:n_par] - 1.0)
@@ -348,7 +349,7 @@ def estimate_replica(holds: Holds, model: ReplicaModel | None = None, *, starts:
         # values may not, and take a continuation (a blunt kink first) as well
         paths = [(SOFTPLUS_WIDTH_M,)] + ([(5e-3, 1e-3, SOFTPLUS_WIDTH_M)] if k == 0 else [])
         for widths in paths:
-            sol = None
+            sol: Any = None
             for w in widths:
                 sol = solver(x0=x0 if sol is None else sol["x"], p=w, lbx=lo, ubx=hi)
                 iters += int(solver.stats().get("iter_count", 0))
@@ -375,9 +376,9 @@ def estimate_replica(holds: Holds, model: ReplicaModel | None = None, *, starts:
     if fit_offset:
         jac = np.column_stack([jac, np.ones(holds.knee_rad.size)])
     info = jac.T @ jac
-    w, vecs = np.linalg.eigh(info)
-    keep = w > w.max() * 1e-10
-    cov = s2 * (vecs[:, keep] / w[keep]) @ vecs[:, keep].T
+    eig, vecs = np.linalg.eigh(info)
+    keep = eig > eig.max() * 1e-10
+    cov = s2 * (vecs[:, keep] / eig[keep]) @ vecs[:, keep].T
     se_all = np.sqrt(np.maximum(np.diag(cov), 0.0))
     offset_se = float(se_all[n_par]) if fit_offset else 0.0
     se_rel = se_all[:n_par]

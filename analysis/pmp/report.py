@@ -9,8 +9,8 @@ from typing import Any
 
 import numpy as np
 
-from ..trial_csv import SUBJECT_RANGES, TrialTable
 from ..errors import InputError
+from ..trial_csv import SUBJECT_RANGES, TrialTable
 from .estimator import PmpResult, PmpTrial, Subject, estimate, identifiability
 from .geometry import path_ranges_deg
 from .muscles import COMPLIANT, LegMuscles, scale_for_subject

@@ -190,4 +190,4 @@ def open_dynamometer(url: str, **kwargs: Any) -> Dynamometer:
         if parsed.scheme in can.VALID_INTERFACES:
             table = {**BACKENDS, parsed.scheme: _CAN}
     cls = load_backend(table, parsed, "dynamometer")
-    return cls.from_url(parsed, **kwargs)
+    return cls.from_url(parsed, **kwargs)  # type: ignore[attr-defined]  # every backend has one

@@ -70,7 +70,7 @@ class CanDynamometer(Dynamometer):
     # -- link
     def _open_internal(self) -> None:
         with error_check(f"{self.name}: cannot open CAN {self.interface}:{self.channel}", DeviceInitializationError):
-            extra = {} if self.interface == "virtual" else {"bitrate": self.bitrate}
+            extra: dict[str, Any] = {} if self.interface == "virtual" else {"bitrate": self.bitrate}
             self._bus = can.Bus(interface=self.interface, channel=self.channel, **extra)
         self._start_heartbeat()
         self._reader_owns_bus = False  # the device must answer before we call it open

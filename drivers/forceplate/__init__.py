@@ -52,4 +52,4 @@ def open_force_plate(url: str, **kwargs: Any) -> ForcePlate:
         url = f"serial://{url}"
     parsed = DeviceUrl.parse(url)
     cls = load_backend(BACKENDS, parsed, "force plate")
-    return cls.from_url(parsed, **kwargs)
+    return cls.from_url(parsed, **kwargs)  # type: ignore[attr-defined]  # every backend has one

@@ -21,7 +21,6 @@ from ..url import DeviceUrl
 from . import ForcePlate
 from . import protocol as p
 
-
 #: replies and other non-sample frames kept for a command to pick up; older ones are dropped and counted
 MAX_PENDING_REPLIES = 32
 

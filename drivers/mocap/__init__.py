@@ -40,4 +40,4 @@ def open_marker_stream(url: str, **kwargs: Any) -> MarkerStream:
     """
     parsed = DeviceUrl.parse(url)
     cls = load_backend(BACKENDS, parsed, "motion capture")
-    return cls.from_url(parsed, **kwargs)
+    return cls.from_url(parsed, **kwargs)  # type: ignore[attr-defined]  # every backend has one

@@ -45,4 +45,4 @@ def open_torque_sensor(url: str, **kwargs: Any) -> TorqueSensor:
     """
     parsed = DeviceUrl.parse(url)
     cls = load_backend(BACKENDS, parsed, "torque sensor")
-    return cls.from_url(parsed, **kwargs)
+    return cls.from_url(parsed, **kwargs)  # type: ignore[attr-defined]  # every backend has one

@@ -24,7 +24,13 @@ from pymodbus.framer.rtu import FramerRTU
 
 from ..blocks import TorqueBlock
 from ..clock import monotonic_s
-from ..errors import CommandRefusedError, ConnectionLostError, DeviceInitializationError, DeviceTimeoutError, error_check
+from ..errors import (
+    CommandRefusedError,
+    ConnectionLostError,
+    DeviceInitializationError,
+    DeviceTimeoutError,
+    error_check,
+)
 from ..url import DeviceUrl
 from . import TorqueSensor
 from . import registers as r

@@ -58,8 +58,9 @@ def max_poll_rate_hz(baud: int, registers: int = 2) -> float:
 
 def decode_float(registers: list[int], word_order: WordOrder) -> float:
     """float32 from two registers in the device's word order."""
-    return float(ModbusClientMixin.convert_from_registers(
-        registers, ModbusClientMixin.DATATYPE.FLOAT32, word_order=word_order))
+    value = ModbusClientMixin.convert_from_registers(registers, ModbusClientMixin.DATATYPE.FLOAT32, word_order=word_order)
+    assert isinstance(value, float)
+    return value
 
 
 def encode_float(value: float, word_order: WordOrder) -> list[int]:

@@ -19,8 +19,7 @@ from PySide6 import QtCore, QtGui, QtWidgets
 
 from ..acquisition import AcquisitionEngine
 from ..analyses import analyse_set
-from ..protocols import AADS_SPRINGS_N_PER_M, AadsProtocol, AnkleProtocol, KneeProtocol, \
-    ReplicaProtocol, TrialProtocol
+from ..protocols import AADS_SPRINGS_N_PER_M, AadsProtocol, AnkleProtocol, KneeProtocol, ReplicaProtocol, TrialProtocol
 from ..runner import Checklist, SafetyLimits, TrialRunner, checklist_for
 from ..store import SessionStore, Subject
 

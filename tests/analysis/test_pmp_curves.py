@@ -5,8 +5,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from analysis.pmp.curves import (passive_fiber_force, passive_fiber_stiffness, tendon_force, tendon_length_from_force,
-                                 tendon_stiffness)
+from analysis.pmp.curves import (
+    passive_fiber_force,
+    passive_fiber_stiffness,
+    tendon_force,
+    tendon_length_from_force,
+    tendon_stiffness,
+)
 from tests.opensim_reference import run_opensim
 
 FIBER = np.linspace(0.2, 1.9, 400)

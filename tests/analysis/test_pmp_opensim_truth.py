@@ -45,8 +45,8 @@ def test_determined_parameters_are_within_3_5_percent_and_inside_their_intervals
 
 @pytest.mark.timeout(600)
 def test_the_forward_model_matches_opensim_at_the_true_parameters(generic) -> None:
-    from benchmarks.pmp_opensim import SHANK_M, forward_model_rmse
     from benchmarks.opensim_truth import draw_truth, make_trials
+    from benchmarks.pmp_opensim import SHANK_M, forward_model_rmse
 
     truth = draw_truth(4, generic)
     made = make_trials(truth, 4, shank_m=SHANK_M)

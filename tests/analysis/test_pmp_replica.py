@@ -9,8 +9,7 @@ import numpy as np
 import pytest
 
 from analysis.errors import DataFileError, InputError
-from analysis.pmp.replica import (Holds, estimate_replica, holds_from_samples, load_replica_model, text,
-                                  truth_error_pct)
+from analysis.pmp.replica import Holds, estimate_replica, holds_from_samples, load_replica_model, text, truth_error_pct
 from drivers.simulation.replica_leg import ReplicaLeg
 
 MODEL = load_replica_model()

@@ -7,8 +7,12 @@ import pytest
 
 from analysis.pmp.curves import passive_fiber_stiffness, tendon_stiffness
 from analysis.pmp.geometry import load_paths
-from analysis.pmp.stiffness import (achilles_stiffness_kn_per_m, dissertation_tendon_constant, muscle_stiffness_n_per_m,
-                                    tendon_stiffness_n_per_m)
+from analysis.pmp.stiffness import (
+    achilles_stiffness_kn_per_m,
+    dissertation_tendon_constant,
+    muscle_stiffness_n_per_m,
+    tendon_stiffness_n_per_m,
+)
 
 
 @pytest.mark.parametrize("strain", [0.033, 0.049, 0.08])
