@@ -149,6 +149,11 @@ class StreamingDevice(ABC):
         """True while the link is up."""
         return self._connected
 
+    @property
+    def closed(self) -> bool:
+        """True once :meth:`close` ran (a device closed on purpose, not a lost link)."""
+        return self._is_closed
+
     def open(self) -> None:
         """Open the device (idempotent).
 

@@ -29,7 +29,7 @@ def _aads_set(protocol: Any, store: SessionStore, same: list[TrialRecord], subje
     exp = analyze_afo(resolve_trials(ids, store, model=model), model)
     k = [r.stiffness_nm_per_deg for r in exp.results]
     return (f"spring {protocol.spring}: {len(k)} accepted trial(s), stiffness "
-            f"{np.nanmean(k):.3f} ± {np.nanstd(k):.3f} N·m/° (fit 6–20°)")
+            f"{np.nanmean(k):.3f} ± {np.nanstd(k):.3f} N·m/° (fit {model.fit_window_deg[0]:g}–{model.fit_window_deg[1]:g}°)")
 
 
 def _tables(store: SessionStore, same: list[TrialRecord]) -> list[Any]:

@@ -12,6 +12,7 @@ them); everything recorded is SI.
 
 from __future__ import annotations
 
+import functools
 import math
 import threading
 import time
@@ -79,6 +80,15 @@ class TrialProtocol(ABC):
         return None
 
 
+@functools.cache
+def default_jig_model() -> Any:
+    """The default jig model, read once: its fit window and hinge stop are what every AADS trial uses,
+    and the live AADS loop re-analyses with it every 0.25 s."""
+    from analysis.aads.model import load_jig_model
+
+    return load_jig_model()
+
+
 def _wait(stop: threading.Event, seconds: float) -> bool:
     """Sleep ``seconds`` unless stopped; True if stopped."""
     return stop.wait(seconds)
@@ -102,6 +112,9 @@ class AadsProtocol(TrialProtocol):
     #: puts it back; a GUI prompt on the bench, the simulator in simulation
     unload: Callable[[bool], None] | None = field(default=None, repr=False, compare=False)
     plate_zero_v: list[float] | None = None
+    #: the stiffness fit window and the hinge stop (°), from the jig model (`analysis/aads/default_jig.toml`)
+    fit_window_deg: tuple[float, float] = field(default_factory=lambda: default_jig_model().fit_window_deg)
+    stop_deg: float = field(default_factory=lambda: default_jig_model().stop_deg)
 
     def __post_init__(self) -> None:
         if self.spring not in AADS_SPRINGS_N_PER_M:
@@ -117,7 +130,7 @@ class AadsProtocol(TrialProtocol):
 
     def condition(self) -> dict[str, Any]:
         return {"spring": self.spring, "spring_n_per_m": self.spring_n_per_m, "operator": self.operator,
-                "trial": self.trial, "fit_window_deg": [6.0, 20.0], "stop_deg": 21.0, "afo": self.afo,
+                "trial": self.trial, "fit_window_deg": list(self.fit_window_deg), "stop_deg": self.stop_deg, "afo": self.afo,
                 "live_markers": self.live_markers, "plate_zeroed_unloaded": self.plate_zero_v is not None}
 
     def prepare(self, devices: dict[str, StreamingDevice]) -> None:
@@ -149,7 +162,7 @@ class AadsProtocol(TrialProtocol):
     def checklist(self) -> list[str]:
         return ["force plate zeroed with the AFO unloaded",
                 "AFO foot strapped to the plate (no heel lift or slip)",
-                f"spring {self.spring} fitted, hinge moves freely to the 21° stop",
+                f"spring {self.spring} fitted, hinge moves freely to the {self.stop_deg:g}° stop",
                 "markers on foot, shank and spring hooks visible to the cameras"]
 
     def live_hint(self, snapshot: Any) -> str | None:
@@ -159,14 +172,15 @@ class AadsProtocol(TrialProtocol):
         if not snapshot.aads_angle_deg.size:
             return None
         if snapshot.aads_past_stop:
-            return (f"WARNING: bent to {snapshot.aads_peak_deg:.1f}°, past the 21° stop: ease off (the stop adds its "
-                    "own stiffness).")
-        return (f"Recording AADS … peak {snapshot.aads_peak_deg:.1f}°; fit window 6–20° "
+            return (f"WARNING: bent to {snapshot.aads_peak_deg:.1f}°, past the {self.stop_deg:g}° stop: ease off (the "
+                    "stop adds its own stiffness).")
+        lo, hi = self.fit_window_deg
+        return (f"Recording AADS … peak {snapshot.aads_peak_deg:.1f}°; fit window {lo:g}–{hi:g}° "
                 + ("covered." if snapshot.aads_covers_window else "not covered yet: push further."))
 
     def incomplete_because(self, snapshot: Any) -> str | None:
         if self.live_markers and not snapshot.aads_covers_window:
-            return "bend did not cover the 6–20° fit window"
+            return f"bend did not cover the {self.fit_window_deg[0]:g}–{self.fit_window_deg[1]:g}° fit window"
         return None
 
 

@@ -11,7 +11,6 @@ trial; whatever the trial recorded stays on disk.
 
 from __future__ import annotations
 
-import functools
 import threading
 import time
 from dataclasses import dataclass, field
@@ -29,7 +28,7 @@ from drivers.dynamometer.protocol import State
 
 from .acquisition import AcquisitionEngine
 from .errors import ProtocolError
-from .protocols import TrialProtocol
+from .protocols import TrialProtocol, default_jig_model
 from .relaxation import ActivationAlarm, RelaxationMonitor
 from .session import TrialOutcome, record_trial
 from .store import SessionStore
@@ -378,7 +377,7 @@ class TrialRunner:
         try:
             motion = motion_from_channels(mk, self.devices["mocap"].identity(), fp, self.devices["force_plate"].identity(),
                                           "live")
-            res = analyze_trial(motion, _default_jig_model())
+            res = analyze_trial(motion, default_jig_model())
         except (AnalysisError, ValueError, IndexError):
             return
         ok = res.sop.valid
@@ -387,22 +386,15 @@ class TrialRunner:
         with self._lock:
             st = self._state
             st.aads_angle_deg, st.aads_torque_nm, st.aads_peak_deg = angle, torque, peak
-            st.aads_covers_window = bool(angle.size) and float(np.nanmin(angle)) <= 6.0 and peak >= 20.0
-            st.aads_past_stop = bool(peak > 21.0)
+            lo, hi = self.protocol.fit_window_deg  # type: ignore[attr-defined]  # the live AADS loop's kind
+            st.aads_covers_window = bool(angle.size) and float(np.nanmin(angle)) <= lo and peak >= hi
+            st.aads_past_stop = bool(peak > self.protocol.stop_deg)  # type: ignore[attr-defined]
 
 
 #: telemetry periods the device has to show an e-stop before the frame is sent again
 ESTOP_CONFIRM_PERIODS = 2
 #: re-sends of an unconfirmed e-stop frame before the operator is alarmed
 ESTOP_RESENDS = 2
-
-
-@functools.lru_cache(maxsize=1)
-def _default_jig_model() -> Any:
-    """The default jig model, read once (the live AADS loop re-analyses every 0.25 s)."""
-    from analysis.aads.model import load_jig_model
-
-    return load_jig_model()
 
 
 __all__ = ["TrialRunner", "SafetyLimits", "Checklist", "checklist_for", "LiveState"]

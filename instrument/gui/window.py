@@ -19,7 +19,15 @@ from PySide6 import QtCore, QtGui, QtWidgets
 
 from ..acquisition import AcquisitionEngine
 from ..analyses import analyse_set
-from ..protocols import AADS_SPRINGS_N_PER_M, AadsProtocol, AnkleProtocol, KneeProtocol, ReplicaProtocol, TrialProtocol
+from ..protocols import (
+    AADS_SPRINGS_N_PER_M,
+    AadsProtocol,
+    AnkleProtocol,
+    KneeProtocol,
+    ReplicaProtocol,
+    TrialProtocol,
+    default_jig_model,
+)
 from ..runner import Checklist, SafetyLimits, TrialRunner, checklist_for
 from ..store import SessionStore, Subject
 
@@ -189,8 +197,9 @@ class MainWindow(QtWidgets.QMainWindow):
         self.curve_c = self.plot_a.plot(pen=pg.mkPen("#2ca02c", width=1))  # monitor: the replica torque sensor
         self.alarm_points = pg.ScatterPlotItem(size=14, brush=pg.mkBrush(220, 0, 0, 200), symbol="x")
         self.plot_a.addItem(self.alarm_points)
-        self.window_region = pg.LinearRegionItem(values=(6.0, 20.0), movable=False, brush=pg.mkBrush(0, 160, 0, 40))
-        self.stop_line = pg.InfiniteLine(pos=21.0, angle=90, pen=pg.mkPen("r", style=QtCore.Qt.PenStyle.DashLine))
+        jig = default_jig_model()  # the fit window and the hinge stop the AADS analysis uses
+        self.window_region = pg.LinearRegionItem(values=jig.fit_window_deg, movable=False, brush=pg.mkBrush(0, 160, 0, 40))
+        self.stop_line = pg.InfiniteLine(pos=jig.stop_deg, angle=90, pen=pg.mkPen("r", style=QtCore.Qt.PenStyle.DashLine))
         self.verdict = QtWidgets.QLabel("")
         self.verdict.setWordWrap(True)
         main.addWidget(self.verdict)
@@ -264,9 +273,10 @@ class MainWindow(QtWidgets.QMainWindow):
 
     @staticmethod
     def _instructions(key: str) -> str:
+        (lo, hi), stop = default_jig_model().fit_window_deg, default_jig_model().stop_deg
         return {
-            "aads": "AADS: with the AFO unloaded, zero the plate. Then push the AFO down past 20° (not beyond the 21° "
-                    "stop) and return it to neutral. The loop must cover the green 6–20° window.",
+            "aads": f"AADS: with the AFO unloaded, zero the plate. Then push the AFO down past {hi:g}° (not beyond "
+                    f"the {stop:g}° stop) and return it to neutral. The loop must cover the green {lo:g}–{hi:g}° window.",
             "knee": "Knee: subject seated, hip as set, relaxed. The dynamometer moves the knee from full extension to "
                     "flexion at the set speed. Red crosses mark torque the passive tissue cannot make (activation).",
             "ankle": "Ankle: knee as set, relaxed. The dynamometer moves the ankle from full dorsiflexion to "
@@ -531,7 +541,8 @@ class MainWindow(QtWidgets.QMainWindow):
         for name, dev in engine.devices.items():
             st = dev.stats
             rate = st.rate_hz()
-            state = "connected" if dev.connected else "DISCONNECTED"
+            # a device the trial closed on purpose is "closed"; only a lost link is shouted
+            state = "closed" if dev.closed else ("connected" if dev.connected else "DISCONNECTED")
             parts.append(f"{name}: {state}, {rate:.0f} Hz, {st.gaps} gaps, {st.lost_samples} lost"
                          if np.isfinite(rate) else f"{name}: {state}")
         parts.append(f"GUI {self.frames.fps():.0f} fps")
