@@ -33,10 +33,9 @@ def _aads_set(protocol: Any, store: SessionStore, same: list[TrialRecord], subje
 
 
 def _tables(store: SessionStore, same: list[TrialRecord]) -> list[Any]:
-    from .export import trial_table
-    from .recording import read_trial
+    from .loading import records_as_loaded
 
-    return [trial_table(read_trial(t.path), store.subject(t.subject_code).as_dict()) for t in same]
+    return [t.table() for t in records_as_loaded(store, same)]
 
 
 def _diagnosis_line(tables: list[Any]) -> str:
@@ -48,11 +47,12 @@ def _diagnosis_line(tables: list[Any]) -> str:
 def _replica_set(protocol: Any, store: SessionStore, same: list[TrialRecord], subject: dict[str, float]) -> str:
     from analysis.pmp.replica import text
 
-    from .recording import read_trial
+    from .loading import records_as_loaded
     from .replica import analyze_replica
 
-    tables = _tables(store, same)
-    result, truth, _ = analyze_replica(tables, [read_trial(t.path).metadata for t in same], None, None)
+    loaded = records_as_loaded(store, same)
+    tables = [t.table() for t in loaded]
+    result, truth, _ = analyze_replica(tables, [t.metadata for t in loaded], None, None)
     return text(result, truth) + _diagnosis_line(tables)
 
 

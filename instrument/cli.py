@@ -116,30 +116,11 @@ def build_parser() -> argparse.ArgumentParser:
 
 def _tables(specs: list[str], store_path: Path | None) -> tuple[list, list[dict]]:  # noqa: ANN001
     """Trial tables (with the subject) and the recorded metadata (empty for CSVs) of store ids, .h5 files or CSVs."""
-    from analysis.trial_csv import read_trial_csv
+    from .loading import load_trials
 
-    from .export import trial_table
-    from .recording import read_trial
-
-    tables, metas, store = [], [], None
-    for spec in specs:
-        path = Path(spec)
-        if spec.isdigit() and not path.exists():
-            store = store or _store(store_path, read_only=True)
-            rec = store.trial(int(spec))
-            trial = read_trial(rec.path)
-            table = trial_table(trial, store.subject(rec.subject_code).as_dict())
-            table.sidecar["trial_status"] = rec.status  # the index's verdict (accepted, rejected, ...)
-            tables.append(table)
-            metas.append(trial.metadata)
-        elif path.suffix.lower() in (".h5", ".hdf5"):
-            trial = read_trial(path)
-            tables.append(trial_table(trial))
-            metas.append(trial.metadata)
-        else:
-            tables.append(read_trial_csv(path))
-            metas.append({})
-    return tables, metas
+    needs_store = any(s.isdigit() and not Path(s).exists() for s in specs)
+    loaded = load_trials(specs, _store(store_path, read_only=True) if needs_store else None)
+    return [t.table() for t in loaded], [t.metadata for t in loaded]
 
 
 def cmd_analyze_replica(args: argparse.Namespace) -> int:

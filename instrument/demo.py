@@ -204,8 +204,7 @@ def diagnose_recordings(out: Path) -> list[dict[str, Any]]:
     """The demo's last step: diagnose the trials it recorded and exported, and print the findings."""
     from analysis.diagnosis import diagnose, from_table, write_diagnosis_plot
 
-    from .export import trial_table
-    from .recording import read_trial
+    from .loading import records_as_loaded
     from .store import SessionStore
 
     print("\nDiagnosis of the recorded trials (what the model gets wrong, and why):")
@@ -214,11 +213,11 @@ def diagnose_recordings(out: Path) -> list[dict[str, Any]]:
     picked: dict[str, Any] = {}
     for t in store.trials():
         picked.setdefault(t.protocol, t)
+    loaded = dict(zip(picked, records_as_loaded(store, list(picked.values()))))
     store.close()
     (out / "diagnosis").mkdir(exist_ok=True)
     for protocol, t in picked.items():
-        table = trial_table(read_trial(t.path))
-        d = diagnose(from_table(table))
+        d = diagnose(from_table(loaded[protocol].table()))
         plot = write_diagnosis_plot(d, out / "diagnosis" / f"trial{t.id}-{protocol}.png")
         amb = f" (or {', '.join(d.ambiguous_with)})" if d.ambiguous_with else ""
         params = ", ".join(f"{k} {v:.3g}" for k, v in d.parameters.items())
@@ -235,13 +234,12 @@ def passive_parameters(out: Path) -> tuple[dict[str, Any], bool]:
     from analysis.errors import AnalysisError
     from analysis.pmp.report import analyse, subject_from, text, to_json, trial_from_table, write_plots
 
-    from .export import trial_table
-    from .recording import read_trial
+    from .loading import records_as_loaded
     from .store import SessionStore
 
     store = SessionStore(out / "store", read_only=True)
-    tables = [trial_table(read_trial(t.path), store.subject(t.subject_code).as_dict())
-              for t in store.trials() if t.protocol == "knee" and t.status == "recorded"]
+    tables = [t.table() for t in records_as_loaded(
+        store, [t for t in store.trials() if t.protocol == "knee" and t.status == "recorded"])]
     store.close()
     print(f"\nPassive muscle-tendon parameters from the {len(tables)} recorded knee trials (direct collocation, "
           "CasADi; the simulated subject's moments are Riener & Edrich's, not the muscle model's) ...")
@@ -264,18 +262,17 @@ def replica_leg(out: Path) -> tuple[dict[str, Any], bool]:
     from analysis.errors import AnalysisError
     from analysis.pmp.replica import text, to_json
 
-    from .export import trial_table
-    from .recording import read_trial
+    from .loading import records_as_loaded
     from .replica import analyze_replica
     from .store import SessionStore
 
     store = SessionStore(out / "store", read_only=True)
-    trials = [read_trial(t.path) for t in store.trials() if t.protocol == "replica" and t.status == "recorded"]
+    trials = records_as_loaded(store, [t for t in store.trials() if t.protocol == "replica" and t.status == "recorded"])
     store.close()
     print(f"\nReplica leg: four springs (BFLH, BFSH, VASINT, RECFEM) from {len(trials)} trial(s) of static holds "
           "every 8°, hip 90° (sensor tared with the shank off) ...")
     try:
-        result, truth, _ = analyze_replica([trial_table(t) for t in trials], [t.metadata for t in trials], None,
+        result, truth, _ = analyze_replica([t.table() for t in trials], [t.metadata for t in trials], None,
                                            out / "replica")
     except AnalysisError as err:
         print(f"  PROBLEM: {err}")

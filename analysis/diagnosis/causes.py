@@ -30,7 +30,10 @@ import numpy as np
 from ..errors import InputError
 from .data import DiagnosisTrial
 
-FRICTION_SPEED_RAD_S = np.deg2rad(1.0)  # tanh width of the Coulomb term
+FRICTION_SPEED_RAD_S = np.deg2rad(1.0)  # tanh width of a Coulomb term where one width is assumed
+#: the widths (rad/s) the diagnosis tries for the Coulomb term's tanh: a sharp sign change (dry
+#: friction) to a gradual one (Stribeck, or friction seen through the smoothed velocity)
+FRICTION_WIDTHS_RAD_S = np.deg2rad(np.array([0.25, 0.5, 1.0, 2.0, 4.0]))
 #: rates (1/rad) of the baseline's stiffening exponentials at each end of the range: published
 #: passive joint moments (Riener & Edrich 1999: 2.0–11.2 /rad) are sums of such terms, and two rates
 #: per end span them to < 0.02 N·m where one rate left 0.4 N·m (a false "stop" at 3× the noise)
@@ -240,8 +243,9 @@ CAUSES: dict[str, Cause] = {c.name: c for c in [
     Cause("none", "the baseline explains the data to the noise", ("afo", "knee", "ankle", "replica"),
           lambda p, nl: _plain(p), lambda c, nl: {}),
     Cause("coulomb_friction", "constant torque opposing motion (hysteresis of constant width)", ("afo", "knee", "ankle"),
-          lambda p, nl: _plain(p, np.tanh(p.omega / FRICTION_SPEED_RAD_S)),
-          lambda c, nl: {"friction_Nm": float(c[0])}, "friction_Nm", signs=(1,), hysteretic=True),
+          lambda p, nl: _plain(p, np.tanh(p.omega / nl[0])),
+          lambda c, nl: {"friction_Nm": float(c[0]), "friction_width_deg_s": float(np.rad2deg(nl[0]))}, "friction_Nm",
+          lambda p: [FRICTION_WIDTHS_RAD_S], signs=(1,), hysteretic=True),
     Cause("viscous_damping", "torque proportional to angular velocity (hysteresis growing with speed)",
           ("afo", "knee", "ankle"), lambda p, nl: _plain(p, p.omega),
           lambda c, nl: {"damping_Nm_s_per_rad": float(c[0])}, "damping_Nm_s_per_rad", signs=(1,), hysteretic=True),
@@ -336,4 +340,5 @@ def _ext_count(cause: Cause) -> int:
 
 
 def _nl_count(cause: Cause) -> int:
-    return {"hard_stop": 1, "activation_burst": 2, "time_delay": 1, "series_compliance": 1}.get(cause.name, 0)
+    return {"hard_stop": 1, "activation_burst": 2, "time_delay": 1, "series_compliance": 1,
+            "coulomb_friction": 1}.get(cause.name, 0)

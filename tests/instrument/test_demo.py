@@ -77,3 +77,24 @@ def test_demo_records_a_lab_day_into_a_store(demo_run: tuple[Path, str]) -> None
     assert drill["relaxed"]["status"] == "accepted" and not drill["relaxed"]["alarms"]
     assert drill["estop"]["status"] == "rejected" and drill["estop"]["estop_latency_ms"] is not None
     assert len(drill["gui_screens"]) == 4
+
+
+def test_the_loader_gives_store_trials_their_subject_and_the_index_verdict(demo_run: tuple[Path, str]) -> None:
+    from instrument.loading import load_trials, records_as_loaded
+    from instrument.store import SessionStore
+
+    store = SessionStore(demo_run[0] / "store", read_only=True)
+    try:
+        knee = [r for r in store.trials() if r.protocol == "knee"][:1]
+        (loaded,) = records_as_loaded(store, knee)
+        assert loaded.kind == "h5" and loaded.subject and loaded.subject.get("mass_kg")
+        table = loaded.table()
+        assert table.sidecar["trial_status"] == knee[0].status
+        assert loaded.file() is loaded.file()  # read once
+        by_id = load_trials([str(knee[0].id)], store)[0]
+        assert by_id.record is not None and by_id.record.id == knee[0].id
+        aads = [r for r in store.trials() if r.protocol == "aads"][:1]
+        ti = records_as_loaded(store, aads)[0].afo_input()
+        assert ti.factors["store_trial_id"] == aads[0].id and ti.factors["spring"] is not None
+    finally:
+        store.close()

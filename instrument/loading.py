@@ -1,0 +1,110 @@
+"""One loader for every analysis: store trial ids, instrument trial files (.h5), C3D files and trial CSVs.
+
+``load_trials(specs, store)`` reads each trial once and hands out what an analysis needs: the
+``time_s, angle_deg, torque_Nm`` table (knee, ankle, replica trials and CSVs) or the AADS input
+(motion and plate data with the spring, operator and trial from the recorded condition, or a
+C3D file). The read path is store → table → analysis everywhere: the CLI's ``analyze``, the GUI's
+set analysis and the demo.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from .errors import InstrumentError
+from .store import SessionStore, TrialRecord
+
+
+@dataclass
+class LoadedTrial:
+    """One trial as given: ``spec`` (what the operator typed), its store record if any, and the file read once."""
+
+    spec: str
+    path: Path
+    record: TrialRecord | None = None
+    subject: dict[str, Any] | None = None
+    _file: Any = field(default=None, repr=False)
+
+    @property
+    def kind(self) -> str:
+        """``"c3d"``, ``"csv"`` or ``"h5"`` (an instrument trial file, from the store or given directly)."""
+        suffix = self.path.suffix.lower()
+        return "c3d" if suffix == ".c3d" else ("h5" if suffix in (".h5", ".hdf5") else "csv")
+
+    def file(self) -> Any:
+        """The instrument trial file (read once)."""
+        if self._file is None:
+            from .recording import read_trial
+
+            self._file = read_trial(self.path)
+        return self._file
+
+    @property
+    def metadata(self) -> dict[str, Any]:
+        """The recorded metadata (empty for CSV and C3D)."""
+        return self.file().metadata if self.kind == "h5" else {}
+
+    def table(self) -> Any:
+        """The ``time_s, angle_deg, torque_Nm`` table with its sidecar (the store's verdict included)."""
+        if self.kind == "csv":
+            from analysis.trial_csv import read_trial_csv
+
+            return read_trial_csv(self.path)
+        if self.kind == "c3d":
+            raise InstrumentError(f"{self.spec}: a C3D file has no torque table; analyse it with `analyze afo`")
+        from .export import trial_table
+
+        table = trial_table(self.file(), self.subject)
+        if self.record is not None:
+            table.sidecar["trial_status"] = self.record.status  # the index's verdict (accepted, rejected, ...)
+        return table
+
+    def afo_input(self, *, spring: int | None = None, spring_n_per_m: float | None = None, model: Any = None) -> Any:
+        """The AADS analysis's input; a C3D file carries no factors, so ``spring`` (a number of the jig
+        ``model``) or ``spring_n_per_m`` supplies its theoretical stiffness."""
+        from analysis.aads.experiment import TrialInput
+
+        if self.kind == "c3d":
+            from analysis.c3d import read_c3d
+
+            k = spring_n_per_m
+            if k is None and spring is not None and model is not None:
+                k = model.spring_n_per_m(spring)
+            return TrialInput(read_c3d(self.path), {"spring": spring, "operator": None, "trial": None}, k)
+        if self.kind != "h5":
+            raise InstrumentError(f"{self.spec}: not a trial id, an .h5 trial file or a .c3d file")
+        from .afo import trial_input
+
+        ti = trial_input(self.file())
+        if self.record is not None:
+            ti.factors["store_trial_id"] = self.record.id
+        return ti
+
+
+def load_trials(specs: Sequence[str], store: SessionStore | None) -> list[LoadedTrial]:
+    """The trials named by ``specs``: store trial ids (digits that are not a file), ``.h5``, ``.c3d`` or CSV paths.
+
+    :raises InstrumentError: a trial id without a store, or a store that has no such trial.
+    """
+    out = []
+    for spec in specs:
+        path = Path(spec)
+        if spec.isdigit() and not path.exists():
+            if store is None:
+                raise InstrumentError(f"trial {spec}: a trial id needs a session store (--store)")
+            rec = store.trial(int(spec))
+            out.append(LoadedTrial(spec, Path(rec.path), rec, store.subject(rec.subject_code).as_dict()))
+        else:
+            out.append(LoadedTrial(spec, path))
+    return out
+
+
+def records_as_loaded(store: SessionStore, records: Sequence[TrialRecord]) -> list[LoadedTrial]:
+    """Store records (already selected) as loaded trials."""
+    return [LoadedTrial(str(r.id), Path(r.path), r, store.subject(r.subject_code).as_dict()) for r in records]
+
+
+__all__ = ["LoadedTrial", "load_trials", "records_as_loaded"]
