@@ -1,7 +1,8 @@
 """A trial as the diagnosis sees it: time, the moving joint's angle and the specimen's torque (SI inside).
 
-Sign convention (the trial CSV's): angle positive in dorsiflexion (AFO, ankle) or knee flexion;
-torque is what the specimen exerts against the bending, so a linear spring reads torque = k·angle.
+Sign convention: the trial CSV's, defined once in :mod:`analysis.trial_csv` (angle positive in
+dorsiflexion or knee flexion; torque applied to the specimen toward positive angle, which equals
+what the specimen resists with, so a linear spring reads torque = k·angle).
 For knee and ankle trials the torque includes the weight of the limb segments distal to the
 joint; the limb's gravity is modelled from the subject (Winter's segment fractions), as in the
 simulated subject.
