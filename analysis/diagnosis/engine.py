@@ -3,25 +3,31 @@
 Selection, in order:
 
 1. every candidate is fitted jointly with the baseline (least squares; nonlinear parameters by a
-   grid and a bounded refinement);
+   grid and a bounded refinement; passive causes keep their physical sign by an active set);
 2. held-out error: the trial is cut into ``folds`` contiguous time blocks; each block is
    predicted by the model fitted on the others (neighbouring samples are correlated, so random
-   splits would flatter every model). A transient cause (a burst) cannot be predicted from other
-   blocks, so for it only the criterion below decides;
+   splits would flatter every model). The held-out gain of a larger model over a smaller one is
+   n_eff · ln(held-out MSE ratio). A transient cause (a burst) cannot be predicted from other
+   blocks, so for it only the criterion decides, at half the threshold;
 3. criterion: BIC with the effective sample size n_eff = n / τ, τ the integrated autocorrelation
-   time of the best model's residual (neighbouring samples are not independent evidence);
-4. a cause is accepted when it lowers the criterion by more than ``min_delta_bic`` against the
-   baseline and (unless transient) lowers the held-out RMSE to below ``max_heldout_ratio`` of the
-   baseline's; the accepted cause with the lowest criterion wins, otherwise ``none``;
+   time of the *larger* model's own residual at each step (neighbouring samples are not
+   independent evidence, and leftover structure of an unmodelled effect must not count as it);
+4. a cause is accepted against a reference model when it lowers the criterion by more than
+   ``min_delta_bic`` and its held-out gain exceeds ``min_heldout_gain`` — or, by strong held-out
+   evidence alone, when the gain exceeds :data:`STRONG_HELDOUT_GAIN` while ΔBIC stays below
+   :data:`MAX_DELTA_BIC_WITH_STRONG_HELDOUT` (a local stop). A cause that is not a function of
+   angle alone must also lower the criterion against the *flexible* baseline (a spline in angle);
 5. a cause whose effect the baseline can mimic (R² > ``max_absorbed_r2`` of its effect direction
    on the baseline basis) is not testable in this trial: it is never named, and the report says
    what the trial would need;
-6. a trial may carry two effects: pairs of the three best-fitting causes are fitted too; a second
-   cause joins the winner when the pair passes the same two tests against the winner alone;
+6. forward selection: the accepted single cause with the most evidence wins; then every other
+   cause is tried beside it and joins when it passes the same tests against the winner alone (and
+   the winner stays needed beside it). When no single cause passes, the pairs of the four
+   best-fitting causes are tried against the baseline, each cause tested given the other;
 7. accepted causes whose fitted effects are nearly the same curve (correlation > 0.9) within
-   ``ambiguity_bic`` of the winner, or whose RMSE is within ``ambiguity_rmse`` (5 %) of it (a
-   difference no real trial's unmodelled detail would leave intact), make the result ambiguous: the report names them and the
-   protocol change that would separate them, rather than guessing.
+   ``ambiguity_bic`` of the winner, or whose RMSE is within ``ambiguity_rmse`` (5 %) of it, make
+   the result ambiguous: the report names them and the protocol change that would separate them,
+   rather than guessing.
 """
 
 from __future__ import annotations
@@ -655,7 +661,6 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
     if len(chosen) == 2:
         second = chosen[1]
         ev2 = search.evidence(chosen, (winner,))
-        first_keys = set(CAUSES[winner].report(np.zeros(1), fits[winner].nonlinear)) if fits[winner].params else set()
         first_keys = set(fits[winner].params)
         extra = {k: v for k, v in final.params.items() if k not in first_keys}
         params = {k: v for k, v in final.params.items() if k in first_keys}
