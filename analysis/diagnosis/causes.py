@@ -20,7 +20,6 @@ it, so a passive curve the parametric baseline does not span is never mistaken f
 from __future__ import annotations
 
 import dataclasses
-import itertools
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -308,13 +307,6 @@ def compound(first: Cause, second: Cause) -> Cause:
         raise ValueError("two causes that both change the baseline's argument cannot be combined")
     if second.name in ARGUMENT_CAUSES:
         first, second = second, first
-    g1, g2 = first.grid, second.grid
-    def grid(p: Prepared) -> "list[np.ndarray] | np.ndarray":
-        a, b = g1(p), g2(p)
-        rows_a = a if isinstance(a, np.ndarray) else (np.array(list(itertools.product(*a))) if a else np.zeros((1, 0)))
-        rows_b = b if isinstance(b, np.ndarray) else (np.array(list(itertools.product(*b))) if b else np.zeros((1, 0)))
-        return np.array([np.concatenate([x, y]) for x in rows_a for y in rows_b])
-
     def columns(p: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         a, b = tuple(nl[:_nl_count(first)]), tuple(nl[_nl_count(first):])
         base, e1, v1 = first.columns(p, a)
@@ -327,7 +319,8 @@ def compound(first: Cause, second: Cause) -> Cause:
                 **second.report(c[_ext_count(first):], nl[_nl_count(first):])}
 
     return Cause(f"{first.name}+{second.name}", f"{first.description}; and {second.description}",
-                 first.kinds, columns, report, "", grid, first.transient or second.transient,
+                 # no product grid: fit_cause searches a compound's parts one at a time (``parts``)
+                 first.kinds, columns, report, "", lambda p: [], first.transient or second.transient,
                  _signs(first) + _signs(second), first.hysteretic or second.hysteretic, (first, second))
 
 
