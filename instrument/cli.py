@@ -93,6 +93,18 @@ def build_parser() -> argparse.ArgumentParser:
                      help="trial kind (default: the sidecar's or the recording's)")
     dia.add_argument("--json", action="store_true", help="print the JSON result")
     dia.add_argument("--plot", type=Path, default=None, help="write the diagnosis plot (PNG) here")
+    cohort = kinds.add_parser("cohort", help="every subject of a store: passive parameters with bootstrap "
+                              "intervals, on Dask (results kept in the store)")
+    cohort.add_argument("--store", type=Path, required=True)
+    cohort.add_argument("--subjects", nargs="+", default=None, help="subject codes (default: every subject)")
+    cohort.add_argument("--bootstrap", type=int, default=20, help="bootstrap refits per subject")
+    cohort.add_argument("--scheduler", default=None, help="a Dask scheduler (tcp://host:8786); default: a "
+                        "LocalCluster on this machine")
+    cohort.add_argument("--workers", type=int, default=None, help="LocalCluster worker processes (default: cores)")
+    cohort.add_argument("--intervals", type=int, default=12, help="collocation intervals per trial")
+    cohort.add_argument("--seed", type=int, default=0, help="seed of the bootstrap resamples")
+    cohort.add_argument("--out", type=Path, default=Path("cohort_report"))
+    cohort.add_argument("--json", action="store_true")
     pmp = kinds.add_parser("pmp", help="passive muscle-tendon parameters from knee and ankle trials (collocation)")
     pmp.add_argument("trials", nargs="+", help="store trial ids, .h5 trial files or trial CSVs (with sidecars)")
     pmp.add_argument("--subject", type=Path, default=None, help="subject JSON (mass_kg, shank_length_m, foot_length_m); "
@@ -137,6 +149,34 @@ def cmd_analyze_replica(args: argparse.Namespace) -> int:
         for f in files:
             print(f"wrote {f}")
     return 0
+
+
+def cmd_analyze_cohort(args: argparse.Namespace) -> int:
+    from analysis.pmp.cohort_report import text
+
+    from .cohort import analyze_cohort, default_every, engine_account, progress_printer
+    from .store import SessionStore
+
+    if args.bootstrap < 2:
+        raise InstrumentError("--bootstrap must be at least 2 (an interval needs a spread)")
+    store = SessionStore(args.store)
+    try:
+        n_subjects = len(args.subjects) if args.subjects else len(store.subjects())
+        show = progress_printer(sys.stderr if args.json else sys.stdout,
+                                every=default_every(n_subjects * (1 + args.bootstrap)))
+        run, files = analyze_cohort(store, args.out, codes=args.subjects, bootstrap=args.bootstrap,
+                                    intervals=args.intervals, seed=args.seed, scheduler=args.scheduler,
+                                    workers=args.workers, progress=show)
+    finally:
+        store.close()
+    if args.json:
+        print(json.dumps({"engine": engine_account(run, len(run.summaries)), "subjects": run.summaries},
+                         indent=2, default=float))
+    else:
+        print(text(run.summaries, engine_account(run, len(run.summaries))))
+        for f in files:
+            print(f"wrote {f}")
+    return 0 if not run.failed else 1
 
 
 def cmd_analyze_pmp(args: argparse.Namespace) -> int:
@@ -206,6 +246,8 @@ def cmd_analyze(args: argparse.Namespace) -> int:
 
     if args.kind == "pmp":
         return cmd_analyze_pmp(args)
+    if args.kind == "cohort":
+        return cmd_analyze_cohort(args)
     if args.kind == "replica":
         return cmd_analyze_replica(args)
     model = load_jig_model(args.model)

@@ -90,7 +90,11 @@ def trial_table(trial: TrialFile, subject: dict[str, Any] | None = None) -> Tria
                 m = (t >= e["t_start_s"]) & (t <= e["t_end_s"])
                 parts.append((t[m], np.full(m.sum(), float(e["knee_flexion_deg"])), d["torque_nm"][m]))
         if not parts or sum(len(p[0]) for p in parts) == 0:
-            raise ExportError(f"{trial.path}: no torque samples inside any hold")
+            holds = [e for e in trial.events if e.get("kind") == "hold"]
+            span = (f"samples {t[0]:.2f}–{t[-1]:.2f} s" if len(t) else "no samples")
+            hold_span = (f"holds {holds[0]['t_start_s']:.2f}–{holds[-1]['t_end_s']:.2f} s" if holds else "no holds")
+            raise ExportError(f"{trial.path}: no torque samples inside any hold ({len(t)} {span}; "
+                              f"{len(holds)} {hold_span}, host time)")
         tt, aa, qq = (np.concatenate(x) for x in zip(*parts))
         return TrialTable({"time_s": tt - tt[0], "angle_deg": aa, "torque_Nm": qq},
                           {"kind": "replica", "hip_flexion_deg": 90.0, "ankle_dorsiflexion_deg": 0.0,

@@ -308,8 +308,10 @@ class AnkleProtocol(IsokineticProtocol):
 class ReplicaProtocol(TrialProtocol):
     """Replica leg, hip 90°: the knee locked at each of ``angles_deg`` for ``hold_s``, torque read at each.
 
-    ``schedule`` (start time in host seconds of the first hold, move speed) comes from the rig: in
-    simulation from the replica-leg simulator, on the bench from the operator's confirmations.
+    The holds' timing comes from the rig: ``start_holds()`` (the operator's hand: a GUI prompt on the
+    bench, the replica-leg simulator in simulation) starts the schedule once the recording runs and
+    returns the host time (s, ``time.monotonic``) of the first hold's start. Without it the first
+    hold starts when the recording does.
     """
 
     name: ClassVar[str] = "replica"
@@ -317,7 +319,7 @@ class ReplicaProtocol(TrialProtocol):
     angles_deg: tuple[float, ...] = tuple(float(a) for a in range(0, 90, 8))
     hold_s: float = 2.0
     move_speed_deg_s: float = 16.0
-    first_hold_at_s: float | None = None
+    start_holds: Callable[[], float] | None = field(default=None, repr=False, compare=False)
     #: the operator's hand: ``unload(True)`` takes the shank (and springs) off the sensor,
     #: ``unload(False)`` puts it back; a GUI prompt on the bench, the simulator in simulation
     unload: Callable[[bool], None] | None = field(default=None, repr=False, compare=False)
@@ -349,7 +351,8 @@ class ReplicaProtocol(TrialProtocol):
         return out
 
     def drive(self, devices: dict[str, StreamingDevice], mark: Any, stop: threading.Event) -> None:
-        t0 = self.first_hold_at_s if self.first_hold_at_s is not None else time.monotonic()
+        # called here, with the recording running, so every hold lies inside it
+        t0 = self.start_holds() if self.start_holds is not None else time.monotonic()
         for angle, start, end in self.hold_windows():
             if _wait(stop, max(0.0, t0 + end - time.monotonic())):
                 return

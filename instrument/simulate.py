@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import math
-import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import asdict, replace
@@ -34,7 +32,7 @@ def _seated_leg(protocol: Any, subject: dict[str, Any], afo: AfoProperties | Non
     fixed.update({"ankle_dorsiflexion_deg": protocol.ankle_dorsiflexion_deg} if protocol.joint == "knee"
                  else {"knee_flexion_deg": protocol.knee_flexion_deg})
     return {"leg": SeatedLeg(joint=protocol.joint, **fixed, **subject, arm_mass_kg=protocol.arm_mass_kg,
-                             arm_com_m=protocol.arm_com_m)}
+                             arm_com_m=protocol.arm_com_m), "dyno_start_position_deg": protocol.start_deg}
 
 
 def _replica_rig(protocol: Any, subject: dict[str, float], afo: AfoProperties | None) -> dict[str, Any]:
@@ -43,19 +41,16 @@ def _replica_rig(protocol: Any, subject: dict[str, float], afo: AfoProperties | 
 
 
 def _afo_operator(protocol: Any, lab: SimulatedLab) -> None:
-    if protocol.unload is None:  # the simulated operator lifts the AFO off the plate for zeroing
-        protocol.unload = lambda off: setattr(lab.force_plate, "specimen_on_plate", not off)
+    # the simulated operator lifts the AFO off the plate for zeroing (this lab's plate, every time)
+    protocol.unload = lambda off: setattr(lab.force_plate, "specimen_on_plate", not off)
     protocol.duration_s = min(protocol.duration_s, lab.jig.profile.duration_s)
 
 
 def _replica_operator(protocol: Any, lab: SimulatedLab) -> None:
-    if protocol.unload is None:  # the simulated operator's hand: shank off the sensor for the tare, then back on
-        protocol.unload = lambda off: setattr(lab.torque_sensor, "shank_attached", not off)
-    if protocol.first_hold_at_s is None:
-        # start at the next cycle of the replica rig's schedule (the simulator's time origin)
-        t0 = lab.torque_sensor._t0
-        period = protocol.hold_windows()[-1][2] + abs(protocol.angles_deg[-1] - protocol.angles_deg[0]) / protocol.move_speed_deg_s
-        protocol.first_hold_at_s = t0 + math.ceil((time.monotonic() + 0.3 - t0) / period) * period
+    # the simulated operator's hand: shank off the sensor for the tare, then back on; the hold
+    # schedule started on the protocol's cue (the simulated lab's own, every time: never a previous lab's)
+    protocol.unload = lambda off: setattr(lab.torque_sensor, "shank_attached", not off)
+    protocol.start_holds = lambda: lab.torque_sensor.start_schedule(lead_s=0.1)
 
 
 #: the simulated rig (what LabConfig gets) and the simulated operator's hand, per trial kind
@@ -99,7 +94,7 @@ def simulation_metadata(lab: SimulatedLab) -> dict[str, Any]:
     """The simulator's ground truth, stored with a simulated trial (for validation, never for analysis)."""
     c = lab.config
     truth: dict[str, Any] = {"seed": c.seed, "afo": asdict(c.afo), "leg": {k: v for k, v in asdict(c.leg).items()
-                                                                          if k != "bursts"},
+                                                                          if k not in ("bursts", "passive_table_deg", "passive_table_nm")},
                              "replica_shank_mass_kg": c.replica.shank_mass_kg,
                              "replica_springs": {f"{sp.name}.{k}": float(getattr(sp, k)) for sp in c.replica.springs
                                                  for k in ("stiffness_n_per_m", "rest_length_m")},

@@ -10,6 +10,7 @@ flushed data is kept and the trial is marked ``interrupted``.
 from __future__ import annotations
 
 import fcntl
+import hashlib
 import json
 import os
 import re
@@ -95,6 +96,22 @@ MIGRATIONS: list[str] = [
         name TEXT NOT NULL UNIQUE,
         created_at REAL NOT NULL
     );
+    """,
+    # v4: analysis results, keyed by a hash of everything that decides them (trials' data,
+    # settings, method version), with the inputs (trial ids, file SHA-256) they were made from
+    """
+    CREATE TABLE analysis_results (
+        key TEXT PRIMARY KEY,
+        kind TEXT NOT NULL,
+        subject_code TEXT,
+        label TEXT,
+        inputs_json TEXT NOT NULL,
+        settings_json TEXT NOT NULL,
+        versions_json TEXT NOT NULL,
+        result_json TEXT NOT NULL,
+        created_at REAL NOT NULL
+    );
+    CREATE INDEX analysis_results_kind ON analysis_results(kind, subject_code);
     """,
 ]
 SCHEMA_VERSION = len(MIGRATIONS)
@@ -292,6 +309,57 @@ class SessionStore:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+    # ------------------------------------------------------------------ analysis results
+    def put_result(self, key: str, kind: str, result: dict[str, Any], *, subject_code: str | None = None,
+                   label: str | None = None, inputs: dict[str, Any] | None = None,
+                   settings: dict[str, Any] | None = None) -> bool:
+        """Keep an analysis result under ``key`` (a hash of what decides it); False if the key was
+        already stored (a result is written once: a repeated or retried computation adds nothing).
+
+        The software versions (this instrument, numpy, scipy, casadi) are recorded with it.
+        """
+        versions = software_versions()
+        with self._write() as db:
+            cur = db.execute(
+                "INSERT OR IGNORE INTO analysis_results (key, kind, subject_code, label, inputs_json, settings_json, "
+                "versions_json, result_json, created_at) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)",
+                (key, kind, subject_code, label, json.dumps(inputs or {}, default=str),
+                 json.dumps(settings or {}, default=str), json.dumps(versions), json.dumps(result, default=float),
+                 time.time()))
+            return cur.rowcount == 1
+
+    def result(self, key: str) -> dict[str, Any] | None:
+        """The stored result under ``key``, or None."""
+        row = self._db.execute("SELECT result_json FROM analysis_results WHERE key = ?", (key,)).fetchone()
+        return None if row is None else json.loads(row[0])
+
+    def results(self, kind: str | None = None, subject_code: str | None = None) -> list[dict[str, Any]]:
+        """Stored results (with their key, kind, subject, label, inputs, settings and versions), oldest first."""
+        sql, args = "SELECT * FROM analysis_results WHERE 1=1", list[str]()
+        if kind is not None:
+            sql, args = sql + " AND kind = ?", args + [kind]
+        if subject_code is not None:
+            sql, args = sql + " AND subject_code = ?", args + [subject_code]
+        rows = self._db.execute(sql + " ORDER BY created_at, key", args).fetchall()
+        return [{"key": r["key"], "kind": r["kind"], "subject_code": r["subject_code"], "label": r["label"],
+                 "inputs": json.loads(r["inputs_json"]), "settings": json.loads(r["settings_json"]),
+                 "versions": json.loads(r["versions_json"]), "result": json.loads(r["result_json"]),
+                 "created_at": r["created_at"]} for r in rows]
+
+    def stale_results(self) -> list[str]:
+        """Keys of stored results whose input files changed (SHA-256 differs) or disappeared since."""
+        stale = []
+        for r in self.results():
+            for path, digest in r["inputs"].get("files", {}).items():
+                try:
+                    if file_sha256(Path(path)) != digest:
+                        stale.append(r["key"])
+                        break
+                except OSError:
+                    stale.append(r["key"])
+                    break
+        return stale
 
     # ------------------------------------------------------------------ subjects and sessions
     def add_subject(self, subject: Subject) -> int:
@@ -614,3 +682,25 @@ def _pid_alive(pid: int | None) -> bool:
             return fh.read().split(")")[-1].split()[0] != "Z"
     except OSError:
         return True
+
+
+def file_sha256(path: Path) -> str:
+    """SHA-256 of a file's bytes (hex)."""
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for chunk in iter(lambda: fh.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()
+
+
+def software_versions() -> dict[str, str]:
+    """Versions of this instrument and of the numerical libraries its analyses use."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    out = {"instrument": __version__}
+    for dist in ("numpy", "scipy", "casadi"):
+        try:
+            out[dist] = version(dist)
+        except PackageNotFoundError:
+            out[dist] = "absent"
+    return out

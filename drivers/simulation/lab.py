@@ -28,6 +28,8 @@ class LabConfig:
     replica: ReplicaLeg = field(default_factory=ReplicaLeg)
     plate_rate_hz: int = 1000
     telemetry_rate_hz: int = 100
+    #: where the arm is when the subject is strapped in (deg): the sweep's start, as an operator does
+    dyno_start_position_deg: float = 0.0
     mocap_rate_hz: int = 100
     marker_noise_m: float = 2e-4
     occlusion_rate: float = 0.0
@@ -47,6 +49,7 @@ class SimulatedLab:
         self.jig = AadsJig(c.afo, operator=c.operator, seed=c.seed)
         self.force_plate = ForcePlateSimulator(self.jig, c.plate_rate_hz, faults=c.plate_faults, seed=c.seed)
         self.dynamometer = DynamometerSimulator(c.leg, channel=channel, telemetry_rate_hz=c.telemetry_rate_hz,
+                                                start_position_deg=c.dyno_start_position_deg,
                                                 faults=c.dyno_faults, seed=c.seed)
         self.mocap = MarkerSimulator(self.jig, c.mocap_rate_hz, noise_m=c.marker_noise_m,
                                      occlusion_rate=c.occlusion_rate, time_origin_s=self.force_plate.time_origin_s,

@@ -68,6 +68,10 @@ class SeatedLeg:
     arm_com_m: float = 0.22
     damping_nm_s_per_rad: float = 0.3
     bursts: list[Burst] = field(default_factory=list)
+    #: the elastic moment as a table (position deg ascending, N·m toward positive angles) in place
+    #: of Riener & Edrich: e.g. a muscle model with a simulated subject's own parameters
+    passive_table_deg: tuple[float, ...] = ()
+    passive_table_nm: tuple[float, ...] = ()
 
     def __post_init__(self) -> None:
         if self.joint not in ("knee", "ankle"):
@@ -89,6 +93,8 @@ class SeatedLeg:
 
     def passive_moment_nm(self, position_deg: np.ndarray) -> np.ndarray:
         """Elastic joint moment toward positive angles (N·m)."""
+        if self.passive_table_deg:
+            return np.interp(np.asarray(position_deg, dtype=float), self.passive_table_deg, self.passive_table_nm)
         if self.joint == "knee":
             return riener_knee_flexion_moment_nm(self.hip_flexion_deg, position_deg, self.ankle_dorsiflexion_deg)
         return riener_ankle_dorsiflexion_moment_nm(self.knee_flexion_deg, position_deg)

@@ -57,6 +57,8 @@ class TorqueSensorSimulator:
         self.byte_faults = ByteFaults(self.faults, seed + 7)
         self.reads = 0
         self._t0 = time.monotonic()
+        #: host time (s) at which the replica leg's hold schedule began (see :meth:`start_schedule`)
+        self._schedule_origin_s = self._t0
         self._loop = asyncio.new_event_loop()
         self._server_port = self._free_port()
         self._ready = threading.Event()
@@ -87,6 +89,12 @@ class TorqueSensorSimulator:
         return (f"modbus-rtu+socket://127.0.0.1:{self.link.port}?unit={self.unit}&baud={self.baud}"
                 f"&word_order={self.word_order}")
 
+    def start_schedule(self, lead_s: float = 0.1) -> float:
+        """The operator starts the leg's hold schedule ``lead_s`` seconds from now (at its first angle
+        until then); returns the host time (s, ``time.monotonic``) of the first hold's start."""
+        self._schedule_origin_s = time.monotonic() + lead_s
+        return self._schedule_origin_s
+
     # -- the device's registers
     def raw_torque_nm(self, t_s: float) -> float:
         knee = self.leg.knee_deg(np.array([t_s]))
@@ -96,7 +104,7 @@ class TorqueSensorSimulator:
 
     async def _action(self, function_code: int, start_address: int, address: int, count: int,
                       regs: list[int], set_values: list[int] | list[bool] | None) -> None:
-        t = time.monotonic() - self._t0
+        t = time.monotonic() - self._schedule_origin_s
         if function_code == 6 and address == r.TARE and set_values and set_values[0] == 1:
             self.zero_nm = self.raw_torque_nm(t)
         if function_code == 3:

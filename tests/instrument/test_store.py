@@ -22,7 +22,7 @@ def test_store_written_by_version_1_opens_in_the_current_version(tmp_path: Path)
     old._db.commit()
     old.close()
     new = SessionStore(tmp_path)
-    assert new.schema_version == SCHEMA_VERSION == 3  # v2 files table, v3 operators
+    assert new.schema_version == SCHEMA_VERSION == 4  # v2 files table, v3 operators, v4 analysis results
     (trial,) = new.trials()
     assert trial.status == "accepted" and trial.path == tmp_path / "trials/session-0001/knee-1.h5"
     assert new.subject("P07").mass_kg == 61.5

@@ -1,0 +1,152 @@
+"""A simulated study: N subjects with different, known passive muscle parameters, recorded through the drivers.
+
+Each subject gets anthropometrics and muscle parameters drawn from a seed (mass 60–90 kg, shank
+0.38–0.45 m, foot 0.23–0.28 m; slack lengths ×U(0.95, 1.05) of the scaled model's, ε₀ of the
+non-calf muscles and ε_T0 of the calf tendons ×U(0.85, 1.15)). The simulated dynamometer's
+subject then resists with that muscle model's passive moment (a table over the sweep, in place
+of Riener & Edrich's equations), and the six trials (knee at hip 90/55/15°, ankle at knee
+0/45/90°) go through the same drivers, acquisition and store as a real session. A sweep starts
+where the passive moment is below :data:`SWEEP_TORQUE_LIMIT_NM` (a knee at hip 90° cannot be
+straightened against tight hamstrings). The truth rides in each trial's metadata
+(``study_truth``), for validation only: the analysis never reads it to fit.
+"""
+
+from __future__ import annotations
+
+import threading
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .protocols import AnkleProtocol, IsokineticProtocol, KneeProtocol
+from .session import record_trial
+from .simulate import lab_config_for, simulated_devices, simulation_metadata
+from .store import SessionStore, Subject
+
+#: a sweep starts where the subject's passive moment (plus limb weight) is below this (N·m)
+SWEEP_TORQUE_LIMIT_NM = 100.0
+#: rooms recording at once (each trial is its own simulated lab)
+ROOMS = 4
+
+
+def draw_subject(index: int, seed: int = 0) -> tuple[Subject, dict[str, float]]:
+    """Subject ``index`` of the study drawn from ``seed``: the store's subject and the true parameters."""
+    from analysis.pmp.estimator import PmpTrial, free_parameters
+    from analysis.pmp.muscles import COMPLIANT, LegMuscles, scale_for_subject
+
+    rng = np.random.default_rng([seed, index, 20])
+    mass = float(rng.uniform(60.0, 90.0))
+    shank = float(rng.uniform(0.38, 0.45))
+    foot = float(rng.uniform(0.23, 0.28))
+    leg = LegMuscles(length_scale=scale_for_subject(shank))
+    probe = [PmpTrial(j, {}, np.arange(3.0), np.zeros(3), np.zeros(3), np.zeros(3)) for j in ("knee", "ankle")]
+    truth: dict[str, float] = {}
+    for name in free_parameters(leg, probe).names:
+        m, what = name.split(".")
+        generic = float(getattr(leg.params[m], what))
+        if what == "tendon_slack_length_m":
+            truth[name] = generic * float(rng.uniform(0.95, 1.05))
+        elif what == "tendon_strain" and m in COMPLIANT or what == "passive_strain" and m not in COMPLIANT:
+            truth[name] = generic * float(rng.uniform(0.85, 1.15))
+        else:
+            truth[name] = generic
+    code = f"SIM{index + 1:02d}"
+    return Subject(code, "unknown", None, mass, None, None, shank, None, foot), truth
+
+
+def true_leg(subject: Subject, truth: dict[str, float]) -> Any:
+    """The muscle model of ``subject`` with its true parameters."""
+    from analysis.pmp.muscles import LegMuscles, MuscleParameters, scale_for_subject
+
+    leg = LegMuscles(length_scale=scale_for_subject(float(subject.shank_length_m or 0.42)))
+    for m, p in list(leg.params.items()):
+        leg.params[m] = MuscleParameters(truth.get(f"{m}.tendon_slack_length_m", p.tendon_slack_length_m),
+                                         truth.get(f"{m}.passive_strain", p.passive_strain),
+                                         truth.get(f"{m}.tendon_strain", p.tendon_strain))
+    return leg
+
+
+def passive_table(protocol: IsokineticProtocol, leg: Any) -> tuple[np.ndarray, np.ndarray]:
+    """(position deg, moment N·m toward positive angles) of the subject's muscles over the sweep's range."""
+    lo, hi = sorted((protocol.start_deg, protocol.end_deg))
+    deg = np.arange(lo - 3.0, hi + 3.0 + 1e-9, 0.5)
+    if protocol.joint == "knee":
+        hip, ankle = np.deg2rad(protocol.hip_flexion_deg), np.deg2rad(protocol.ankle_dorsiflexion_deg)  # type: ignore[attr-defined]
+        nm = [leg.joint_moment_nm("knee", hip=hip, knee=np.deg2rad(d), ankle=ankle) for d in deg]
+    else:
+        hip, knee = np.deg2rad(protocol.hip_flexion_deg), np.deg2rad(protocol.knee_flexion_deg)  # type: ignore[attr-defined]
+        nm = [leg.joint_moment_nm("ankle", hip=hip, knee=knee, ankle=np.deg2rad(d)) for d in deg]
+    return deg, np.asarray(nm, dtype=float)
+
+
+def subject_protocols(leg: Any, speed_deg_s: float) -> list[IsokineticProtocol]:
+    """The six sweeps, each starting where the passive moment is within :data:`SWEEP_TORQUE_LIMIT_NM`."""
+    out: list[IsokineticProtocol] = []
+    for proto in [KneeProtocol(hip_flexion_deg=h, speed_deg_s=speed_deg_s) for h in (90.0, 55.0, 15.0)] + \
+                 [AnkleProtocol(knee_flexion_deg=k, speed_deg_s=speed_deg_s) for k in (0.0, 45.0, 90.0)]:
+        deg, nm = passive_table(proto, leg)
+        inside = (deg >= min(proto.start_deg, proto.end_deg)) & (deg <= max(proto.start_deg, proto.end_deg))
+        ok = inside & (np.abs(nm) <= SWEEP_TORQUE_LIMIT_NM)
+        if not ok.any():
+            continue
+        # start at the first tolerable angle along the sweep's direction (1° inside it)
+        along = deg[ok] if proto.end_deg > proto.start_deg else deg[ok][::-1]
+        start = float(along[0]) + (1.0 if proto.end_deg > proto.start_deg else -1.0)
+        if abs(proto.end_deg - start) < 20.0:
+            continue
+        out.append(replace(proto, start_deg=start))
+    return out
+
+
+def record_study(store_dir: Path, subjects: int, *, seed: int = 0, speed_deg_s: float = 5.0,
+                 progress: Any = print) -> SessionStore:
+    """Record ``subjects`` simulated subjects' knee and ankle sweeps into the store at ``store_dir``.
+
+    :raises RecordingError, StoreError: as :func:`instrument.session.record_trial`.
+    """
+    store = SessionStore(store_dir)
+    jobs: list[tuple[Subject, dict[str, float], int, IsokineticProtocol]] = []
+    for i in range(subjects):
+        subject, truth = draw_subject(i, seed)
+        store.add_subject(subject)
+        session = store.new_session(subject.code, operator="study-operator", notes="simulated study")
+        leg = true_leg(subject, truth)
+        for proto in subject_protocols(leg, speed_deg_s):
+            jobs.append((subject, truth, session, proto))
+    lock = threading.Lock()
+    errors: list[BaseException] = []
+    done = [0]
+
+    def room(k: int) -> None:
+        for j, (subject, truth, session, proto) in enumerate(jobs):
+            if j % ROOMS != k or errors:
+                continue
+            try:
+                leg = true_leg(subject, truth)
+                deg, nm = passive_table(proto, leg)
+                cfg = lab_config_for(proto, seed=seed * 1000 + j, body_mass_kg=float(subject.mass_kg or 75.0),
+                                     shank_length_m=float(subject.shank_length_m or 0.42),
+                                     foot_length_m=float(subject.foot_length_m or 0.26))
+                cfg.leg = replace(cfg.leg, passive_table_deg=tuple(deg.tolist()), passive_table_nm=tuple(nm.tolist()))
+                with simulated_devices(proto, cfg) as (lab, devices):
+                    meta = {**simulation_metadata(lab), "study_truth": truth}
+                    out = record_trial(store, session, proto, devices, operator="study-operator", trial_number=1,
+                                       extra_metadata=meta)
+                with lock:
+                    done[0] += 1
+                    progress(f"  study: {done[0]}/{len(jobs)} trials recorded ({subject.code} {proto.name} "
+                             f"{proto.fixed_joint_text()}: {out.status})")
+            except BaseException as err:  # noqa: BLE001 - re-raised after the other rooms stop
+                errors.append(err)
+
+    threads = [threading.Thread(target=room, args=(k,), name=f"study-room-{k}") for k in range(ROOMS)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    if errors:
+        store.close()
+        raise errors[0]
+    return store
