@@ -40,6 +40,8 @@ def build_parser() -> argparse.ArgumentParser:
     demo.add_argument("--seconds", type=float, default=4.0, help="streaming time per run (s)")
     demo.add_argument("--out", type=Path, default=Path("out"), help="output folder")
     demo.add_argument("--no-faults", action="store_true", help="skip the fault drill")
+    demo.add_argument("--cohort", type=int, default=0, metavar="N",
+                      help="also record a simulated study of N subjects and run the cohort analysis on it")
 
     rec = sub.add_parser("record", help="record one trial into a session store")
     rec.add_argument("--simulate", action="store_true", help="use the simulated lab (required without hardware config)")
@@ -353,7 +355,7 @@ def main(argv: list[str] | None = None) -> int:
         if args.command == "demo":
             from .demo import main as demo_main
 
-            return demo_main(args.seconds, args.out, faults=not args.no_faults)
+            return demo_main(args.seconds, args.out, faults=not args.no_faults, cohort_subjects=args.cohort)
         return {"record": cmd_record, "sessions": cmd_sessions, "export": cmd_export,
                 "analyze": cmd_analyze, "diagnose": cmd_diagnose, "gui": cmd_gui}[args.command](args)
     except KeyboardInterrupt:

@@ -20,6 +20,7 @@ import math
 import os
 import sys
 import time
+import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -144,8 +145,10 @@ def _cluster(scheduler: str | None, workers: int | None) -> tuple[Any, Any, int]
         client = Client(scheduler)
         return client, None, len(client.scheduler_info().get("workers", {}))
     n = workers or os.cpu_count() or 1
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
-                           silence_logs=logging.ERROR)
+    with warnings.catch_warnings():  # the health endpoint moves to a free port when 8787 is taken: fine
+        warnings.filterwarnings("ignore", message="Port .* is already in use")
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+                               silence_logs=logging.ERROR)
     return Client(cluster), cluster, n
 
 
@@ -284,7 +287,7 @@ def progress_printer(stream: Any = None, every: int = 1) -> Callable[[int, int, 
         width = 30
         filled = int(width * done / max(total, 1))
         line = (f"[{'#' * filled}{'.' * (width - filled)}] {done}/{total} solves done, "
-                f"{running} running, {failed} failed")
+                f"{running} waiting or running, {failed} failed")
         stream.write(("\r" + line) if tty else line + "\n")
         if tty and done == total:
             stream.write("\n")

@@ -257,6 +257,47 @@ def passive_parameters(out: Path) -> tuple[dict[str, Any], bool]:
     return to_json(report), True
 
 
+def cohort(out: Path, subjects: int = 0, bootstrap: int = 3) -> tuple[dict[str, Any], bool]:
+    """The cohort analysis on Dask: the lab day's subject (a few bootstrap refits, then the re-run
+    read back from the store), or with ``subjects`` a simulated study of that many subjects with
+    known muscle parameters, recorded through the drivers and checked against its truth."""
+    from analysis.pmp.cohort_report import text
+
+    from .cohort import analyze_cohort, default_every, engine_account, progress_printer
+    from .store import SessionStore
+    from .study import record_study
+
+    if subjects:
+        print(f"\nRecording a simulated study of {subjects} subjects (known muscle parameters; knee at hip "
+              f"90/55/15°, ankle at knee 0/45/90°, 15°/s) into {out / 'study'} ...", flush=True)
+        if (out / "study" / "store.sqlite").exists():
+            import shutil
+
+            shutil.rmtree(out / "study")
+        store = record_study(out / "study", subjects, speed_deg_s=15.0, progress=lambda m: print(m, flush=True))
+        where = out / "cohort_study"
+    else:
+        store = SessionStore(out / "store")
+        where = out / "cohort"
+    try:
+        n = len(store.subjects())
+        print(f"\nCohort analysis on Dask (LocalCluster, 2 worker processes): {n} subject(s) x (1 fit + "
+              f"{bootstrap} bootstrap refits), results kept in the store ...", flush=True)
+        show = progress_printer(every=default_every(n * (1 + bootstrap)))
+        run, files = analyze_cohort(store, where, bootstrap=bootstrap, workers=2, progress=show)
+        print("  " + text(run.summaries, engine_account(run, n)).replace("\n", "\n  "))
+        again, _ = analyze_cohort(store, where, bootstrap=bootstrap, workers=2)
+        print(f"  re-run with the same trials and settings: {again.read_back} of {again.solves} results read back "
+              f"from the store, {again.solved_now} solved")
+    finally:
+        store.close()
+    for f in files:
+        print(f"  wrote {f}")
+    ok = not run.failed and again.solved_now == 0
+    report = {"engine": engine_account(run, n), "rerun_read_back": again.read_back, "coverage": run.coverage}
+    return report, ok
+
+
 def replica_leg(out: Path) -> tuple[dict[str, Any], bool]:
     """Fit the replica leg's four springs to the lab day's replica trial and compare with the rig's truth."""
     from analysis.errors import AnalysisError
@@ -359,7 +400,8 @@ def operator_drill(out: Path) -> tuple[dict[str, Any], bool]:
     return rows, ok
 
 
-def main(seconds: float = 4.0, out: Path | None = None, faults: bool = True, quick: bool = True) -> int:
+def main(seconds: float = 4.0, out: Path | None = None, faults: bool = True, quick: bool = True,
+         cohort_subjects: int = 0) -> int:
     """Run the demo; returns a process exit code (0 when every device streamed cleanly)."""
     print(f"Simulated lab: force plate (serial framing over TCP), dynamometer (CAN, virtual bus), "
           f"torque sensor (Modbus RTU, {LabConfig().torque_baud} baud emulated); {seconds:.0f} s each run.")
@@ -394,6 +436,11 @@ def main(seconds: float = 4.0, out: Path | None = None, faults: bool = True, qui
         replica_ok = replica_ok and drill_ok
         pmp_ok = pmp_ok and replica_ok
         report["diagnosis"] = diagnose_recordings(out)
+        report["cohort"], cohort_ok = cohort(out)
+        ok = ok and cohort_ok
+        if cohort_subjects:
+            report["cohort_study"], study_ok = cohort(out, cohort_subjects, bootstrap=10)
+            ok = ok and study_ok
         ok = ok and pmp_ok
         ok = ok and day_ok and afo_ok
         (out / "demo.json").write_text(json.dumps(report, indent=2, default=float))

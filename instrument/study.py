@@ -71,7 +71,7 @@ def true_leg(subject: Subject, truth: dict[str, float]) -> Any:
 def passive_table(protocol: IsokineticProtocol, leg: Any) -> tuple[np.ndarray, np.ndarray]:
     """(position deg, moment N·m toward positive angles) of the subject's muscles over the sweep's range."""
     lo, hi = sorted((protocol.start_deg, protocol.end_deg))
-    deg = np.arange(lo - 3.0, hi + 3.0 + 1e-9, 0.5)
+    deg = np.arange(lo - 3.0, hi + 3.0 + 1e-9, 0.1)  # linear between: 0.1° keeps it under 0.01 N·m
     if protocol.joint == "knee":
         hip, ankle = np.deg2rad(protocol.hip_flexion_deg), np.deg2rad(protocol.ankle_dorsiflexion_deg)  # type: ignore[attr-defined]
         nm = [leg.joint_moment_nm("knee", hip=hip, knee=np.deg2rad(d), ankle=ankle) for d in deg]

@@ -160,7 +160,7 @@ def bootstrap_trials(trials: list[PmpTrial], fitted_torque: list[np.ndarray], re
         fit = np.asarray(fitted_torque[members[0]], dtype=float)
         residual = t.torque_nm - fit
         dt = float(np.median(np.diff(t.time_s))) if t.time_s.size > 1 else 1.0
-        block = max(int(round(2.0 * _autocorrelation_time(residual))), int(math.ceil(MIN_BLOCK_S / dt)))
+        block = max(int(round(2.0 * _autocorrelation_time(residual))), int(math.ceil(MIN_BLOCK_S / dt - 1e-9)))
         torque = fit + _block_resample(residual, block, rng)
         out.append(PmpTrial(t.joint, dict(t.fixed_rad), t.time_s, t.angle_rad, t.velocity_rad_s, torque,
                             f"{t.name} (residual blocks of {block})"))
