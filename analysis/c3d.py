@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import struct
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -102,14 +103,34 @@ def read_c3d(path: str | Path, *, plate: int = 0, require_plate: bool = True) ->
     cop[low] = np.nan
     corners = pf["corners"].T * p_scale
     meta = {"plate_corners_m": corners.tolist(), "plate_origin_m": (pf["origin"] * p_scale).tolist(),
-            "marker_rate_hz": rate, "analog_rate_hz": analog_rate}
+            "marker_rate_hz": rate, "analog_rate_hz": analog_rate, "aads_factors": _aads_factors(params)}
     return MotionTrial(marker_t, markers, labels, plate_t, -force_on_plate, cop, -np.where(low, 0.0, tz),
                        str(path), meta)
 
 
+#: the AADS factors a C3D file carries (parameter group ``AADS``), so a re-analysis needs no flags
+AADS_FACTORS = ("SPRING", "OPERATOR", "TRIAL")
+
+
+def _aads_factors(params: Any) -> dict[str, Any]:
+    """The ``AADS`` parameter group (spring, operator, trial, spring_n_per_m), where the file has one."""
+    group = params["AADS"] if "AADS" in params else {}
+    out: dict[str, Any] = {}
+    for key in AADS_FACTORS:
+        if key in group and len(group[key]["value"]):
+            out[key.lower()] = int(group[key]["value"][0])
+    if "SPRING_N_PER_M" in group and len(group["SPRING_N_PER_M"]["value"]):
+        out["spring_n_per_m"] = float(group["SPRING_N_PER_M"]["value"][0])
+    return out
+
+
 def write_c3d(path: str | Path, trial: MotionTrial, *, corners_m: np.ndarray | None = None,
-              transducer_origin_m: np.ndarray | None = None) -> None:
+              transducer_origin_m: np.ndarray | None = None, factors: dict[str, Any] | None = None) -> None:
     """Write markers (mm) and the force plate as a type-2 platform (N, N·mm).
+
+    ``factors``: the AADS test's ``spring``, ``operator``, ``trial`` (integers) and
+    ``spring_n_per_m`` (the spring's theoretical stiffness, N/m), written to the ``AADS``
+    parameter group (read back by :func:`read_c3d` into ``meta["aads_factors"]``).
 
     The plate rate must be an integer multiple of the marker rate, and both streams must cover
     the same frames (cut to the shorter). ``corners_m`` (4, 3): plate corners in the lab frame
@@ -161,6 +182,14 @@ def write_c3d(path: str | Path, trial: MotionTrial, *, corners_m: np.ndarray | N
         p["FORCE_PLATFORM"][name]["type"] = core.INT
     c.add_parameter("FORCE_PLATFORM", "CORNERS", (corners.T * 1e3).reshape(3, 4, 1))
     c.add_parameter("FORCE_PLATFORM", "ORIGIN", (rot.T @ (centre - origin) * 1e3).reshape(3, 1))
+    for key, value in (factors or {}).items():
+        if value is None:
+            continue
+        if key.upper() in AADS_FACTORS:
+            c.add_parameter("AADS", key.upper(), np.asarray([int(value)], dtype=float))
+            p["AADS"][key.upper()]["type"] = core.INT
+        elif key == "spring_n_per_m":
+            c.add_parameter("AADS", "SPRING_N_PER_M", np.asarray([float(value)]))
     c["header"]["points"]["first_frame"] = int(round(trial.marker_time_s[0] * marker_rate)) if n_m else 0
     try:
         c.write(str(path))

@@ -10,7 +10,8 @@ from pathlib import Path
 
 BENCHMARKS = {"drivers": "benchmarks.drivers", "pmp_opensim": "benchmarks.pmp_opensim", "recording": "benchmarks.recording", "aads": "benchmarks.aads",
               "diagnosis": "benchmarks.diagnosis", "pmp": "benchmarks.pmp",
-              "relaxation": "benchmarks.relaxation", "gui": "benchmarks.gui", "safety": "benchmarks.safety"}
+              "relaxation": "benchmarks.relaxation", "gui": "benchmarks.gui", "safety": "benchmarks.safety",
+              "cohort": "benchmarks.cohort"}
 
 
 def main(argv: list[str] | None = None) -> int:

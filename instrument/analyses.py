@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from .errors import StoreReadOnlyError
 from .protocols import TrialProtocol
 from .store import SessionStore, TrialRecord
 
@@ -76,12 +77,23 @@ SET_ANALYSES: dict[str, Callable[[Any, SessionStore, list[TrialRecord], dict[str
 
 def analyse_set(protocol: TrialProtocol, store_root: Any, trial_id: int, subject: dict[str, float]) -> str:
     """The analysis of the set the accepted trial belongs to (its session's accepted trials of this kind), as text."""
-    store = SessionStore(store_root, read_only=True, recover=False)
+    from .results import remembered
+
+    try:
+        store = SessionStore(store_root, recover=False)
+    except StoreReadOnlyError:  # a read-only medium: analyse, keep nothing
+        store = SessionStore(store_root, read_only=True, recover=False)
     try:
         rec = store.trial(trial_id)
         same = [t for t in store.trials(protocol=protocol.name) if t.session_id == rec.session_id
                 and t.status == "accepted"]
-        return SET_ANALYSES[protocol.name](protocol, store, same, subject)
+        # kept in the store with its inputs; the same accepted set analysed again is read back
+        if store.read_only:
+            return SET_ANALYSES[protocol.name](protocol, store, same, subject)
+        payload, _ = remembered(store, f"set_{protocol.name}", same, {"condition": protocol.condition(),
+                                                                        "subject": subject},
+                                lambda: {"text": SET_ANALYSES[protocol.name](protocol, store, same, subject)})
+        return str(payload["text"])
     finally:
         store.close()
 

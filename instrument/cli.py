@@ -88,6 +88,7 @@ def build_parser() -> argparse.ArgumentParser:
     afo.add_argument("--spring-n-per-m", type=float, default=None, help="C3D input: spring stiffness (N/m)")
     afo.add_argument("--out", type=Path, default=Path("afo_report"), help="folder for the JSON report and PNG plots")
     afo.add_argument("--json", action="store_true", help="print the JSON report instead of the tables")
+    afo.add_argument("--recompute", action="store_true", help="analyse again even if the store holds this analysis")
 
     dia = sub.add_parser("diagnose", help="what the model of a trial gets wrong, and why")
     dia.add_argument("file", type=Path, help="a trial CSV (with its .json sidecar) or an instrument trial file (.h5)")
@@ -115,6 +116,7 @@ def build_parser() -> argparse.ArgumentParser:
     pmp.add_argument("--intervals", type=int, default=24, help="collocation intervals per trial")
     pmp.add_argument("--out", type=Path, default=Path("pmp_report"))
     pmp.add_argument("--json", action="store_true")
+    pmp.add_argument("--recompute", action="store_true", help="fit again even if the store holds this analysis")
     pmp.add_argument("--diagnose-model", action="store_true",
                      help="also fit each candidate model extension (damping, friction, limb-mass error, torque offset, "
                           "axis misalignment) inside the estimator and judge it by held-out prediction across trials "
@@ -125,6 +127,7 @@ def build_parser() -> argparse.ArgumentParser:
     rep.add_argument("--store", type=Path, default=None)
     rep.add_argument("--out", type=Path, default=Path("replica_report"))
     rep.add_argument("--json", action="store_true")
+    rep.add_argument("--recompute", action="store_true", help="analyse again even if the store holds this analysis")
     return parser
 
 
@@ -137,20 +140,52 @@ def _tables(specs: list[str], store_path: Path | None) -> tuple[list, list[dict]
     return [t.table() for t in loaded], [t.metadata for t in loaded]
 
 
-def cmd_analyze_replica(args: argparse.Namespace) -> int:
-    from .replica import analyze_replica
+def _remember(args: argparse.Namespace, kind: str, settings: dict, compute: Callable[[], dict]) -> dict:
+    """``compute()``'s payload (``text``, ``json``, ``files``, ``exit_code``), kept in the store when every
+    trial is a store id, and read back from it when the same trials and settings were analysed before."""
+    from .results import remembered
+    from .store import file_sha256
 
-    tables, metas = _tables(args.trials, args.store)
-    result, truth, files = analyze_replica(tables, metas, args.model, args.out)
+    if getattr(args, "model", None):
+        settings = {**settings, "model_sha256": file_sha256(Path(args.model))}
+    if args.store is None or not all(s.isdigit() and not Path(s).exists() for s in args.trials):
+        return compute()
+    store = _store(args.store, reading=True)
+    try:
+        if store.read_only:  # a read-only medium: analyse, keep nothing
+            return compute()
+        records = [store.trial(int(s)) for s in args.trials]
+        payload, read_back = remembered(store, kind, records, settings, compute,
+                                        recompute=bool(getattr(args, "recompute", False)))
+    finally:
+        store.close()
+    if read_back:
+        print(f"(read back from the store: these trials and settings were analysed before; its files are "
+              f"{', '.join(payload.get('files', [])) or 'not kept'}; --recompute runs it again)", file=sys.stderr)
+    return payload
+
+
+def _show(args: argparse.Namespace, payload: dict) -> int:
+    if args.json:
+        print(json.dumps(payload["json"], indent=2, default=float))
+    else:
+        print(payload["text"])
+        for f in payload.get("files", []):
+            print(f"wrote {f}")
+    return int(payload.get("exit_code", 0))
+
+
+def cmd_analyze_replica(args: argparse.Namespace) -> int:
     from analysis.pmp.replica import text, to_json
 
-    if args.json:
-        print(json.dumps(to_json(result, truth), indent=2, default=float))
-    else:
-        print(text(result, truth))
-        for f in files:
-            print(f"wrote {f}")
-    return 0
+    from .replica import analyze_replica
+
+    def compute() -> dict:
+        tables, metas = _tables(args.trials, args.store)
+        result, truth, files = analyze_replica(tables, metas, args.model, args.out)
+        return {"json": to_json(result, truth), "text": text(result, truth), "files": [str(f) for f in files]}
+
+    return _show(args, _remember(args, "replica", {}, compute))
 
 
 def cmd_analyze_cohort(args: argparse.Namespace) -> int:
@@ -185,24 +220,23 @@ def cmd_analyze_pmp(args: argparse.Namespace) -> int:
     from analysis.errors import DataFileError
     from analysis.pmp.report import analyse, subject_from, text, to_json, trial_from_table, write_plots
 
-    tables, _ = _tables(args.trials, args.store)
+    given_subject = None
     if args.subject:
         try:
-            subject_data = json.loads(args.subject.read_text(encoding="utf-8"))
+            given_subject = json.loads(args.subject.read_text(encoding="utf-8"))
         except (OSError, ValueError) as err:
             raise DataFileError(args.subject, f"subject JSON cannot be read: {err}") from err
-    else:
-        subject_data = tables[0].sidecar.get("subject") or {}
-    report = analyse([trial_from_table(t) for t in tables], subject_from(subject_data), args.intervals,
-                     diagnose_model=args.diagnose_model)
-    files = write_plots(report, args.out)
-    if args.json:
-        print(json.dumps(to_json(report), indent=2, default=float))
-    else:
-        print(text(report))
-        for f in files:
-            print(f"wrote {f}")
-    return 0
+
+    def compute() -> dict:
+        tables, _ = _tables(args.trials, args.store)
+        subject_data = given_subject if given_subject is not None else tables[0].sidecar.get("subject") or {}
+        report = analyse([trial_from_table(t) for t in tables], subject_from(subject_data), args.intervals,
+                         diagnose_model=args.diagnose_model)
+        files = write_plots(report, args.out)
+        return {"json": to_json(report), "text": text(report), "files": [str(f) for f in files]}
+
+    settings = {"intervals": args.intervals, "diagnose_model": args.diagnose_model, "subject": given_subject}
+    return _show(args, _remember(args, "pmp_subject", settings, compute))
 
 
 def cmd_diagnose(args: argparse.Namespace) -> int:
@@ -252,18 +286,19 @@ def cmd_analyze(args: argparse.Namespace) -> int:
         return cmd_analyze_cohort(args)
     if args.kind == "replica":
         return cmd_analyze_replica(args)
-    model = load_jig_model(args.model)
-    store = _store(args.store, read_only=True) if any(t.isdigit() and not Path(t).exists() for t in args.trials) else None
-    inputs = resolve_trials(args.trials, store, spring=args.spring, spring_n_per_m=args.spring_n_per_m, model=model)
-    experiment = analyze_afo(inputs, model)
-    files = write_report(experiment, args.out, model.fit_window_deg)
-    if args.json:
-        print(files[0].read_text())
-    else:
-        print(experiment.text())
-        for f in files:
-            print(f"wrote {f}")
-    return 0 if experiment.results and not experiment.failed else 1
+    def compute() -> dict:
+        model = load_jig_model(args.model)
+        store = (_store(args.store, read_only=True) if any(t.isdigit() and not Path(t).exists() for t in args.trials)
+                 else None)
+        inputs = resolve_trials(args.trials, store, spring=args.spring, spring_n_per_m=args.spring_n_per_m,
+                                model=model)
+        experiment = analyze_afo(inputs, model)
+        files = write_report(experiment, args.out, model.fit_window_deg)
+        return {"json": json.loads(files[0].read_text()), "text": experiment.text(), "files": [str(f) for f in files],
+                "exit_code": 0 if experiment.results and not experiment.failed else 1}
+
+    return _show(args, _remember(args, "afo_set", {"spring": args.spring, "spring_n_per_m": args.spring_n_per_m},
+                                 compute))
 
 
 def _store(path: Path | None, read_only: bool = False, reading: bool = False):  # noqa: ANN202

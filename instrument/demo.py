@@ -283,6 +283,9 @@ def cohort(out: Path, subjects: int = 0, bootstrap: int = 3) -> tuple[dict[str, 
         n = len(store.subjects())
         print(f"\nCohort analysis on Dask (LocalCluster, 2 worker processes): {n} subject(s) x (1 fit + "
               f"{bootstrap} bootstrap refits), results kept in the store ...", flush=True)
+        if not subjects:
+            print("  (the lab day's subject resists with Riener & Edrich's moments, not the muscle model's: the "
+                  "report should say the model does not fit well enough to determine anything)", flush=True)
         show = progress_printer(every=default_every(n * (1 + bootstrap)))
         run, files = analyze_cohort(store, where, bootstrap=bootstrap, workers=2, progress=show)
         print("  " + text(run.summaries, engine_account(run, n)).replace("\n", "\n  "))

@@ -188,7 +188,16 @@ def export_trial(trial: TrialFile, fmt: str, out: str | Path, subject: dict[str,
         raise ExportError(f"unknown export format {fmt!r}; one of {FORMATS}")
     name = trial.metadata["protocol"]["name"]
     if fmt == "c3d":
-        write_c3d(out, motion_trial(trial))
+        cond = trial.metadata["protocol"].get("condition", {})
+        factors: dict[str, Any] = {k: cond.get(k) for k in ("spring", "operator", "trial")}
+        if cond.get("spring") is not None:  # the theory's stiffness of that spring, from the jig model
+            from .protocols import default_jig_model
+
+            try:
+                factors["spring_n_per_m"] = default_jig_model().spring_n_per_m(int(cond["spring"]))
+            except (KeyError, IndexError, ValueError):
+                pass  # a spring the built-in jig does not have: the file carries its number only
+        write_c3d(out, motion_trial(trial), factors=factors)
         return [out]
     if fmt == "sto":
         if name == "aads":

@@ -70,10 +70,15 @@ class LoadedTrial:
         if self.kind == "c3d":
             from analysis.c3d import read_c3d
 
-            k = spring_n_per_m
+            motion = read_c3d(self.path)
+            written = motion.metadata.get("aads_factors", {})  # what the instrument's export wrote, if it did
+            spring = spring if spring is not None else written.get("spring")
+            k = spring_n_per_m if spring_n_per_m is not None else (
+                written.get("spring_n_per_m") if spring == written.get("spring") else None)
             if k is None and spring is not None and model is not None:
                 k = model.spring_n_per_m(spring)
-            return TrialInput(read_c3d(self.path), {"spring": spring, "operator": None, "trial": None}, k)
+            return TrialInput(motion, {"spring": spring, "operator": written.get("operator"),
+                                       "trial": written.get("trial")}, k)
         if self.kind != "h5":
             raise InstrumentError(f"{self.spec}: not a trial id, an .h5 trial file or a .c3d file")
         from .afo import trial_input

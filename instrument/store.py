@@ -313,16 +313,17 @@ class SessionStore:
     # ------------------------------------------------------------------ analysis results
     def put_result(self, key: str, kind: str, result: dict[str, Any], *, subject_code: str | None = None,
                    label: str | None = None, inputs: dict[str, Any] | None = None,
-                   settings: dict[str, Any] | None = None) -> bool:
+                   settings: dict[str, Any] | None = None, replace: bool = False) -> bool:
         """Keep an analysis result under ``key`` (a hash of what decides it); False if the key was
-        already stored (a result is written once: a repeated or retried computation adds nothing).
+        already stored (a result is written once: a repeated or retried computation adds nothing),
+        unless ``replace`` (an operator's explicit recomputation).
 
         The software versions (this instrument, numpy, scipy, casadi) are recorded with it.
         """
         versions = software_versions()
         with self._write() as db:
             cur = db.execute(
-                "INSERT OR IGNORE INTO analysis_results (key, kind, subject_code, label, inputs_json, settings_json, "
+                f"INSERT OR {'REPLACE' if replace else 'IGNORE'} INTO analysis_results (key, kind, subject_code, label, inputs_json, settings_json, "
                 "versions_json, result_json, created_at) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)",
                 (key, kind, subject_code, label, json.dumps(inputs or {}, default=str),
                  json.dumps(settings or {}, default=str), json.dumps(versions), json.dumps(result, default=float),

@@ -8,8 +8,15 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import stats
 
-from analysis.pmp.cohort import (DETERMINED_HALF_WIDTH_REL, FitTask, _block_resample, bootstrap_trials, condition_of,
-                                 coverage, subject_summary)
+from analysis.pmp.cohort import (
+    DETERMINED_HALF_WIDTH_REL,
+    FitTask,
+    _block_resample,
+    bootstrap_trials,
+    condition_of,
+    coverage,
+    subject_summary,
+)
 from analysis.pmp.estimator import PmpTrial, Subject
 
 

@@ -48,6 +48,30 @@ def test_recorded_trial_through_the_devices_gives_the_simulators_torque(tmp_path
     assert np.sqrt(np.mean(err**2)) < 0.15, np.sqrt(np.mean(err**2))
     assert (tmp_path / "report" / "torque_angle.png").stat().st_size > 10_000
     assert (tmp_path / "report" / "sop_vs_theory.png").exists()
+    # the analysis is kept in the store with its inputs; the same trials again are read back, identical
+    with SessionStore(tmp_path / "store") as s:
+        kept = s.results(kind="afo_set")
+    assert len(kept) == 1 and kept[0]["inputs"]["trial_ids"] == [out.trial_id]
+    assert list(kept[0]["inputs"]["files"]) == [str(out.path)]
+    assert main(["analyze", "afo", str(out.trial_id), "--store", str(tmp_path / "store"), "--json"]) == 0
+    again = capsys.readouterr()
+    assert json.loads(again.out) == report and "read back from the store" in again.err
+    assert main(["analyze", "afo", str(out.trial_id), "--store", str(tmp_path / "store"), "--recompute",
+                 "--out", str(tmp_path / "report2"), "--json"]) == 0
+    assert "read back" not in capsys.readouterr().err and (tmp_path / "report2" / "torque_angle.png").exists()
+    # its C3D export carries the spring, operator and trial: another lab re-analyses it without flags
+    assert main(["export", "--store", str(tmp_path / "store"), str(out.trial_id), "--format", "c3d",
+                 "-o", str(tmp_path / "t.c3d")]) == 0
+    import ezc3d
+
+    params = ezc3d.c3d(str(tmp_path / "t.c3d"))["parameters"]
+    assert list(params["FORCE_PLATFORM"]["TYPE"]["value"]) == [2]
+    assert [int(params["AADS"][k]["value"][0]) for k in ("SPRING", "OPERATOR", "TRIAL")] == [2, 1, 3]
+    capsys.readouterr()
+    assert main(["analyze", "afo", str(tmp_path / "t.c3d"), "--out", str(tmp_path / "r3"), "--json"]) == 0
+    c3d_row = json.loads(capsys.readouterr().out)["trials"][0]
+    assert (c3d_row["spring"], c3d_row["operator"], c3d_row["trial"]) == (2, 1, 3)
+    assert c3d_row["stiffness_nm_per_deg"] == pytest.approx(row["stiffness_nm_per_deg"], rel=0.02)
 
 
 def test_c3d_files_from_another_lab(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
