@@ -91,10 +91,12 @@ def trial_table(trial: TrialFile, subject: dict[str, Any] | None = None) -> Tria
                 parts.append((t[m], np.full(m.sum(), float(e["knee_flexion_deg"])), d["torque_nm"][m]))
         if not parts or sum(len(p[0]) for p in parts) == 0:
             holds = [e for e in trial.events if e.get("kind") == "hold"]
-            span = (f"samples {t[0]:.2f}–{t[-1]:.2f} s" if len(t) else "no samples")
-            hold_span = (f"holds {holds[0]['t_start_s']:.2f}–{holds[-1]['t_end_s']:.2f} s" if holds else "no holds")
+            t0 = float(t[0]) if len(t) else (holds[0]["t_start_s"] if holds else 0.0)  # times in the trial
+            span = f"samples {t[0] - t0:.2f}–{t[-1] - t0:.2f} s" if len(t) else "no samples"
+            hold_span = (f"holds {holds[0]['t_start_s'] - t0:.2f}–{holds[-1]['t_end_s'] - t0:.2f} s" if holds
+                         else "no holds")
             raise ExportError(f"{trial.path}: no torque samples inside any hold ({len(t)} {span}; "
-                              f"{len(holds)} {hold_span}, host time)")
+                              f"{len(holds)} {hold_span}, from the first sample)")
         tt, aa, qq = (np.concatenate(x) for x in zip(*parts))
         return TrialTable({"time_s": tt - tt[0], "angle_deg": aa, "torque_Nm": qq},
                           {"kind": "replica", "hip_flexion_deg": 90.0, "ankle_dorsiflexion_deg": 0.0,

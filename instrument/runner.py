@@ -211,7 +211,9 @@ class TrialRunner:
             return "emergency stop"
         if s.alarms:
             a = s.alarms[0]
-            return f"muscle activation detected at {a.angle_deg:.1f}° (t = {a.time_s:.1f} s, {a.excess_nm:+.1f} N·m)"
+            # the time in the trial (from its start), not the host's clock
+            return (f"muscle activation detected at {a.angle_deg:.1f}° ({a.time_s - self._t0:.1f} s into the "
+                    f"trial, {a.excess_nm:+.1f} N·m)")
         if s.limit_breaches:
             return "limit breached: " + s.limit_breaches[0]
         if s.phase == "done":

@@ -60,6 +60,10 @@ def test_burst_is_flagged_at_its_angle_and_rejection_keeps_the_data(store: Sessi
     assert snap.phase == "done" and snap.alarms
     reason = runner.suggested_rejection()
     assert reason is not None and "activation" in reason
+    import re
+
+    into = float(re.search(r"\(([0-9.]+) s into the trial", reason).group(1))  # type: ignore[union-attr]
+    assert 1.0 < into < 30.0, reason  # time in the trial, never the host's clock
     runner.reject(reason)
     rec = store.trial(snap.outcome.trial_id)
     assert rec.status == "rejected" and rec.reason == reason
