@@ -17,6 +17,8 @@ import numpy as np
 import pyqtgraph as pg
 from PySide6 import QtCore, QtGui, QtWidgets
 
+from analysis.trial_csv import SUBJECT_RANGES
+
 from ..acquisition import AcquisitionEngine
 from ..analyses import analyse_set
 from ..protocols import (
@@ -115,6 +117,11 @@ class MainWindow(QtWidgets.QMainWindow):
         self.speed_spin = QtWidgets.QDoubleSpinBox(minimum=1.0, maximum=self.limits.max_speed_deg_s, value=5.0, suffix=" °/s")
         self.end_spin = QtWidgets.QDoubleSpinBox(minimum=5.0, maximum=90.0, value=90.0, suffix=" °")
         self.hold_spin = QtWidgets.QDoubleSpinBox(minimum=0.3, maximum=10.0, value=2.0, suffix=" s")
+        # the dynamometer arm's weight, removed from the torque (the checklist asks for it)
+        self.arm_mass_spin = QtWidgets.QDoubleSpinBox(minimum=0.0, maximum=20.0, value=1.8, decimals=2, suffix=" kg")
+        self.arm_com_spin = QtWidgets.QDoubleSpinBox(minimum=0.0, maximum=1.0, value=0.22, decimals=3, suffix=" m")
+        for spin in (self.arm_mass_spin, self.arm_com_spin):
+            spin.valueChanged.connect(self._reset_checklist)
         self.seconds_spin = QtWidgets.QDoubleSpinBox(minimum=2.0, maximum=30.0, value=6.0, suffix=" s")
         self.afo_edit = QtWidgets.QLineEdit("hinged AFO (default jig)")
         self.live_markers_box = QtWidgets.QCheckBox("live markers (else force-guided; angle from the C3D export)")
@@ -126,6 +133,7 @@ class MainWindow(QtWidgets.QMainWindow):
                               ("aads", "", self.order_button), ("aads", "", self.order_label),
                               ("knee", "Hip flexion (°)", self.hip_box), ("ankle", "Knee flexion (°)", self.knee_box),
                               ("iso", "Speed", self.speed_spin), ("knee", "Sweep end", self.end_spin),
+                              ("iso", "Arm mass", self.arm_mass_spin), ("iso", "Arm centre of mass", self.arm_com_spin),
                               ("replica", "Hold per angle", self.hold_spin)):
             lab = QtWidgets.QLabel(label)
             form.addRow(lab, w)
@@ -140,6 +148,11 @@ class MainWindow(QtWidgets.QMainWindow):
         for label, w in (("Mass", self.mass_spin), ("Shank length", self.shank_spin), ("Foot length", self.foot_spin)):
             subj.addRow(label, w)
             w.valueChanged.connect(self._update_buttons)
+        self.subject_button = QtWidgets.QPushButton("Save subject")
+        self.subject_button.clicked.connect(self.save_subject)
+        self.subject_label = QtWidgets.QLabel("")
+        self.subject_label.setWordWrap(True)
+        subj.addRow(self.subject_button, self.subject_label)
         side.addLayout(subj)
 
         side.addWidget(QtWidgets.QLabel("<b>Before the trial</b>"))
@@ -185,7 +198,14 @@ class MainWindow(QtWidgets.QMainWindow):
         self.plots = pg.GraphicsLayoutWidget()
         # repaint only what changed (the curves), not the axes' text every frame
         self.plots.setViewportUpdateMode(QtWidgets.QGraphicsView.ViewportUpdateMode.SmartViewportUpdate)
-        main.addWidget(self.plots, 1)
+        # live plots and the set's analysis on their own tabs: a long result never squeezes the plots
+        self.tabs = QtWidgets.QTabWidget()
+        self.tabs.addTab(self.plots, "Live")
+        self.result_text = QtWidgets.QPlainTextEdit()
+        self.result_text.setReadOnly(True)
+        self.result_text.setStyleSheet("font-family: monospace")
+        self.tabs.addTab(self.result_text, "Results")
+        main.addWidget(self.tabs, 1)
         self.plot_a = self.plots.addPlot(row=0, col=0)
         self.plot_b = self.plots.addPlot(row=1, col=0)
         for p in (self.plot_a, self.plot_b):
@@ -203,11 +223,6 @@ class MainWindow(QtWidgets.QMainWindow):
         self.verdict = QtWidgets.QLabel("")
         self.verdict.setWordWrap(True)
         main.addWidget(self.verdict)
-        self.result_label = QtWidgets.QLabel("")
-        self.result_label.setWordWrap(True)
-        self.result_label.setTextInteractionFlags(QtCore.Qt.TextInteractionFlag.TextSelectableByMouse)
-        self.result_label.setStyleSheet("font-family: monospace")
-        main.addWidget(self.result_label)
         self.health = QtWidgets.QLabel("devices: idle")
         self.statusBar().addPermanentWidget(self.health, 1)
 
@@ -220,11 +235,13 @@ class MainWindow(QtWidgets.QMainWindow):
                                 trial=self.aads_trial.value(), duration_s=self.seconds_spin.value(),
                                 afo=self.afo_edit.text().strip() or "unnamed AFO",
                                 live_markers=self.live_markers_box.isChecked())
+        arm = {"arm_mass_kg": self.arm_mass_spin.value(), "arm_com_m": self.arm_com_spin.value()}
         if i == 1:
             return KneeProtocol(hip_flexion_deg=float(self.hip_box.currentText()), speed_deg_s=self.speed_spin.value(),
-                                end_deg=self.end_spin.value())
+                                end_deg=self.end_spin.value(), **arm)
         if i == 2:
-            return AnkleProtocol(knee_flexion_deg=float(self.knee_box.currentText()), speed_deg_s=self.speed_spin.value())
+            return AnkleProtocol(knee_flexion_deg=float(self.knee_box.currentText()), speed_deg_s=self.speed_spin.value(),
+                                 **arm)
         return ReplicaProtocol(hold_s=self.hold_spin.value())
 
     def _on_protocol_changed(self, index: int) -> None:
@@ -263,8 +280,35 @@ class MainWindow(QtWidgets.QMainWindow):
         self.shank_spin.setValue(shank_length_m)
         self.foot_spin.setValue(foot_length_m)
 
+    def _subject_entries(self) -> dict[str, float]:
+        return {"mass_kg": self.mass_spin.value(), "shank_length_m": self.shank_spin.value(),
+                "foot_length_m": self.foot_spin.value()}
+
+    def subject_problems(self) -> list[str]:
+        """What is missing or outside the physiological range in the subject's entries (empty: fine)."""
+        out = []
+        for key, value in self._subject_entries().items():
+            lo, hi = SUBJECT_RANGES[key]
+            if not lo <= value <= hi:
+                out.append(f"{key.replace('_', ' ')} {value:g} outside {lo:g}..{hi:g}")
+        return out
+
+    def save_subject(self) -> bool:
+        """Store the entered anthropometrics on the subject (created or updated, by code), if valid."""
+        problems = self.subject_problems()
+        if problems:
+            self.subject_label.setText("not saved: " + "; ".join(problems))
+            return False
+        try:
+            old = self.store.subject(self._subject_code).as_dict()
+        except Exception:  # noqa: BLE001 - a new subject
+            old = {"code": self._subject_code}
+        self.store.add_subject(Subject(**{**old, **self._subject_entries()}))
+        self.subject_label.setText(f"{self._subject_code} saved")
+        return True
+
     def _anthropometrics_ok(self) -> bool:
-        return self.mass_spin.value() > 20 and self.shank_spin.value() > 0.2 and self.foot_spin.value() > 0.1
+        return not self.subject_problems()
 
     def _randomise_springs(self) -> None:
         order = random.sample(sorted(AADS_SPRINGS_N_PER_M), 3)
@@ -324,12 +368,11 @@ class MainWindow(QtWidgets.QMainWindow):
     # ------------------------------------------------------------------ trial control
     def _session(self) -> int:
         if self._session_id is None:
-            try:
-                self.store.subject(self._subject_code)
-            except Exception:  # noqa: BLE001 - a new subject
-                self.store.add_subject(Subject(self._subject_code, mass_kg=self.mass_spin.value() or None,
-                                               shank_length_m=self.shank_spin.value() or None,
-                                               foot_length_m=self.foot_spin.value() or None))
+            if not (self._anthropometrics_ok() and self.save_subject()):  # entries kept only when valid
+                try:
+                    self.store.subject(self._subject_code)
+                except Exception:  # noqa: BLE001 - a new subject, its anthropometrics still to be entered
+                    self.store.add_subject(Subject(self._subject_code))
             self._session_id = self.store.new_session(self._subject_code, self.operator, notes="gui")
         return self._session_id
 
@@ -426,12 +469,13 @@ class MainWindow(QtWidgets.QMainWindow):
                 text = f"analysis failed: {type(err).__name__}: {err}"
             self.sigAnalysis.emit(text)
 
-        self.result_label.setText("analysing the set in the background …")
+        self.tabs.setTabText(1, "Results (analysing …)")
         threading.Thread(target=work, name="set-analysis", daemon=True).start()
 
     def _show_analysis(self, text: str) -> None:
         self.analysis_text = text
-        self.result_label.setText(text)
+        self.result_text.setPlainText(text)
+        self.tabs.setTabText(1, "Results (new)")
 
     # ------------------------------------------------------------------ refresh (timer)
     def _refresh(self) -> None:

@@ -173,3 +173,42 @@ def test_an_unconfirmed_emergency_stop_raises_a_modal_alarm_and_blocks_accept(qt
     shot = tmp_path / "estop-alarm.png"
     window.estop_alarm.grab().save(str(shot))
     window.estop_alarm.accept()
+
+
+def test_subject_is_saved_validated_and_updated(window: MainWindow) -> None:
+    window.protocol_box.setCurrentIndex(1)  # knee: needs anthropometrics
+    window.confirm_checklist()
+    window.set_subject(0.0, 0.42, 0.26)
+    assert not window.start_button.isEnabled()
+    assert not window.save_subject() and "mass kg 0 outside 20..250" in window.subject_label.text()
+    window.set_subject(75.0, 0.42, 0.26)
+    assert window.start_button.isEnabled() and window.save_subject()
+    assert window.store.subject("GUI01").mass_kg == 75.0
+    window.set_subject(81.5, 0.44, 0.27)  # edited later: the store follows, nothing stays at the first entry
+    assert window.save_subject()
+    saved = window.store.subject("GUI01")
+    assert (saved.mass_kg, saved.shank_length_m, saved.foot_length_m) == (81.5, 0.44, 0.27)
+
+
+def test_arm_entries_reach_the_protocol_and_its_checklist(window: MainWindow) -> None:
+    window.protocol_box.setCurrentIndex(2)  # ankle
+    window.arm_mass_spin.setValue(2.5)
+    window.arm_com_spin.setValue(0.3)
+    proto = window.protocol()
+    assert (proto.arm_mass_kg, proto.arm_com_m) == (2.5, 0.3)
+    items = [window.check_list.item(i).text() for i in range(window.check_list.count())]
+    assert any("2.5 kg at 0.3 m" in t for t in items), items
+
+
+def test_a_long_result_gets_its_own_tab_and_leaves_the_plots_alone(window: MainWindow, tmp_path: Path) -> None:
+    window.protocol_box.setCurrentIndex(1)
+    QtCore.QCoreApplication.processEvents()
+    before = window.plots.height()
+    window._show_analysis("\n".join(f"line {i}: parameter estimate and interval" for i in range(40)))
+    QtCore.QCoreApplication.processEvents()
+    assert window.plots.height() == before
+    assert window.tabs.tabText(1) == "Results (new)"
+    assert window.result_text.toPlainText().count("\n") == 39
+    window.tabs.setCurrentIndex(1)
+    QtCore.QCoreApplication.processEvents()
+    assert window.grab().save(str(tmp_path / "results-tab.png")) and non_blank(tmp_path / "results-tab.png")
