@@ -19,40 +19,14 @@ from typing import Any, Callable
 import numpy as np
 
 from drivers import Dynamometer, StreamingDevice
-from drivers.dynamometer import (
-    SUBJECT_ENVELOPE_DEG,
-    SUBJECT_MAX_SPEED_DEG_S,
-    SUBJECT_MAX_TORQUE_NM,
-)
-from drivers.dynamometer.protocol import State
 
 from .acquisition import AcquisitionEngine
 from .errors import ProtocolError
-from .protocols import TrialProtocol, default_jig_model
+from .monitors import AadsLoopWatch, SafetyLimits, monitors_for
+from .protocols import TrialProtocol
 from .relaxation import ActivationAlarm, RelaxationMonitor
 from .session import TrialOutcome, record_trial
 from .store import SessionStore
-
-
-@dataclass(frozen=True)
-class SafetyLimits:
-    """What the dynamometer may do with a subject: range of motion (deg), speed (deg/s), torque (N·m)."""
-
-    rom_deg: tuple[float, float] = SUBJECT_ENVELOPE_DEG
-    max_speed_deg_s: float = SUBJECT_MAX_SPEED_DEG_S
-    max_torque_nm: float = SUBJECT_MAX_TORQUE_NM
-
-    def violations(self, protocol: TrialProtocol) -> list[str]:
-        """Why ``protocol`` may not start under these limits (empty when it may)."""
-        out = []
-        sweep = protocol.sweep_deg()
-        if sweep is not None:
-            lo, hi = sorted(sweep[:2])
-            if lo < self.rom_deg[0] or hi > self.rom_deg[1]:
-                out.append(f"sweep {lo:g}…{hi:g}° leaves the range of motion {self.rom_deg[0]:g}…{self.rom_deg[1]:g}°")
-            if sweep[2] > self.max_speed_deg_s:
-                out.append(f"speed {sweep[2]:g}°/s exceeds {self.max_speed_deg_s:g}°/s")
-        return out
 
 
 def checklist_for(protocol: TrialProtocol) -> list[str]:
@@ -115,8 +89,10 @@ class TrialRunner:
         if hasattr(protocol, "max_torque_nm"):  # the device's own ceiling: the stricter of the two
             protocol.max_torque_nm = min(protocol.max_torque_nm, self.limits.max_torque_nm)
         self.engine = AcquisitionEngine(self.devices, ring_seconds=120.0)
-        self.monitor = monitor if monitor is not None else (
-            RelaxationMonitor() if protocol.relaxation_monitored else None)
+        # the live monitors (instrument.monitors) find; this runner acts on what they find
+        self.limit_monitor, self.relaxation_watch = monitors_for(protocol, self.limits, monitor)
+        self.monitor = self.relaxation_watch.monitor if self.relaxation_watch is not None else None
+        self.aads_watch = AadsLoopWatch(protocol, {}) if protocol.live_aads_loop else None
         self.stop_event = threading.Event()
         self._state = LiveState()
         self._lock = threading.Lock()
@@ -331,32 +307,14 @@ class TrialRunner:
         pos = np.rad2deg(d["position_rad"])
         vel = np.rad2deg(d["velocity_rad_s"])
         tq = d["torque_nm"]
-        breach = None
-        if np.any(np.abs(tq) > self.limits.max_torque_nm):
-            breach = f"torque {np.max(np.abs(tq)):.1f} N·m over {self.limits.max_torque_nm:g} N·m"
-        elif np.any((pos < self.limits.rom_deg[0] - 2) | (pos > self.limits.rom_deg[1] + 2)):
-            breach = f"angle {pos[np.argmax(np.abs(pos))]:.1f}° outside {self.limits.rom_deg}"
-        elif np.any(np.abs(vel) > self.limits.max_speed_deg_s + 5):
-            breach = f"speed {np.max(np.abs(vel)):.0f}°/s over {self.limits.max_speed_deg_s:g}°/s"
+        breach = self.limit_monitor.check(pos, vel, tq) if self.limit_monitor is not None else None
         if breach is not None and self._state.emergency_stop_s is None:
             with self._lock:
                 self._state.limit_breaches.append(breach)
             self.emergency_stop(reason=breach)
             return
-        sweep = self.protocol.sweep_deg()
-        if self.monitor is not None and sweep is not None and self.sweep_started.is_set():
-            # only the isokinetic part: moving at the set speed (the start and stop transients are
-            # the dynamometer's, not the subject's)
-            steady = np.abs(np.abs(vel) - sweep[2]) < 0.2 * sweep[2]
-            # and away from the ends, where the arm accelerates (0.3 s of travel)
-            margin = 0.3 * sweep[2]
-            lo, hi = sorted(sweep[:2])
-            steady &= (pos > lo + margin) & (pos < hi - margin)
-            if "state" in d:
-                steady &= d["state"] == int(State.MOVING)
-            if not steady.any():
-                return
-            new = self.monitor.update(d["time_s"][steady], pos[steady], tq[steady])
+        if self.relaxation_watch is not None and self.sweep_started.is_set():
+            new = self.relaxation_watch.check(d, pos, vel, tq)
             if new:
                 with self._lock:
                     self._state.alarms.extend(new)
@@ -364,33 +322,18 @@ class TrialRunner:
                     self._mark("activation", time_s=a.time_s, angle_deg=a.angle_deg, excess_nm=a.excess_nm)
 
     def _update_aads(self) -> None:
-        """The loop so far: hinge angle from the markers, AFO torque by static optimisation (the analysis's own)."""
-        from analysis.aads.pipeline import analyze_trial
-        from analysis.errors import AnalysisError
-
-        from .export import motion_from_channels
-
-        rings = self.engine.rings
-        if "mocap" not in rings or "force_plate" not in rings:
+        """The loop so far (:class:`instrument.monitors.AadsLoopWatch`) into the live state."""
+        if self.aads_watch is None:
             return
-        mk, fp = rings["mocap"].latest(), rings["force_plate"].latest()
-        if len(mk["time_s"]) < 50 or len(fp["time_s"]) < 200:
+        if not self.aads_watch.identities and {"mocap", "force_plate"} <= set(self.devices):
+            self.aads_watch.identities = {n: self.devices[n].identity() for n in ("mocap", "force_plate")}
+        loop = self.aads_watch.check(self.engine.rings)
+        if loop is None:
             return
-        try:
-            motion = motion_from_channels(mk, self.devices["mocap"].identity(), fp, self.devices["force_plate"].identity(),
-                                          "live")
-            res = analyze_trial(motion, default_jig_model())
-        except (AnalysisError, ValueError, IndexError):
-            return
-        ok = res.sop.valid
-        angle, torque = res.angle_deg[ok], res.afo_torque_nm[ok]
-        peak = float(np.nanmax(angle)) if angle.size else float("nan")
         with self._lock:
             st = self._state
-            st.aads_angle_deg, st.aads_torque_nm, st.aads_peak_deg = angle, torque, peak
-            lo, hi = self.protocol.fit_window_deg  # type: ignore[attr-defined]  # the live AADS loop's kind
-            st.aads_covers_window = bool(angle.size) and float(np.nanmin(angle)) <= lo and peak >= hi
-            st.aads_past_stop = bool(peak > self.protocol.stop_deg)  # type: ignore[attr-defined]
+            st.aads_angle_deg, st.aads_torque_nm, st.aads_peak_deg = loop.angle_deg, loop.torque_nm, loop.peak_deg
+            st.aads_covers_window, st.aads_past_stop = loop.covers_window, loop.past_stop
 
 
 #: telemetry periods the device has to show an e-stop before the frame is sent again
