@@ -325,7 +325,7 @@ class TrialRunner:
         """The loop so far (:class:`instrument.monitors.AadsLoopWatch`) into the live state."""
         if self.aads_watch is None:
             return
-        if not self.aads_watch.identities and {"mocap", "force_plate"} <= set(self.devices):
+        if {"mocap", "force_plate"} <= set(self.devices):  # as the devices describe themselves once open
             self.aads_watch.identities = {n: self.devices[n].identity() for n in ("mocap", "force_plate")}
         loop = self.aads_watch.check(self.engine.rings)
         if loop is None:
