@@ -207,10 +207,14 @@ def cmd_analyze_cohort(args: argparse.Namespace) -> int:
     finally:
         store.close()
     if args.json:
-        print(json.dumps({"engine": engine_account(run, len(run.summaries)), "subjects": run.summaries},
-                         indent=2, default=float))
+        print(json.dumps({"engine": engine_account(run, len(run.summaries)), "subjects": run.summaries,
+                          "afo_sets": {k: v["json"] for k, v in run.afo_sets.items()}}, indent=2, default=float))
     else:
-        print(text(run.summaries, engine_account(run, len(run.summaries))))
+        if run.summaries:
+            print(text(run.summaries, engine_account(run, len(run.summaries))))
+        for afo, res in run.afo_sets.items():
+            print(f"\nAFO set {afo!r}" + (" (read back from the store)" if res["read_back"] else "") + ":")
+            print(res["text"])
         for f in files:
             print(f"wrote {f}")
     return 0 if not run.failed else 1

@@ -30,7 +30,7 @@ from analysis.pmp.cohort import FitTask, bootstrap_trials, coverage, run_fit_tas
 
 from .errors import InstrumentError
 from .loading import records_as_loaded
-from .store import SessionStore, file_sha256
+from .store import SessionStore, TrialRecord, file_sha256
 
 #: trial statuses a cohort fit uses
 USABLE_STATUSES = ("accepted", "recorded")
@@ -94,6 +94,8 @@ class CohortRun:
     scheduler: str
     coverage: dict[str, Any]
     worker_pids: set[int] = field(default_factory=set)
+    #: every AFO set's stiffness analysis (Tables 2.1, 2.2) by AFO name: ``json``, ``text``, ``read_back``
+    afo_sets: dict[str, dict[str, Any]] = field(default_factory=dict)
 
 
 def study_from_store(store: SessionStore, codes: Sequence[str] | None = None) -> list[StudySubject]:
@@ -261,16 +263,54 @@ def engine_account(run: CohortRun, subjects: int) -> dict[str, Any]:
             "scheduler": run.scheduler, "coverage": run.coverage}
 
 
+def afo_sets(store: SessionStore) -> dict[str, list[TrialRecord]]:
+    """The study's AADS sets: usable AADS trials grouped by the AFO tested (its name in the condition)."""
+    sets: dict[str, list[TrialRecord]] = {}
+    for t in store.trials(protocol="aads"):
+        if t.status in USABLE_STATUSES and t.repeated_by is None and t.condition.get("live_markers", True):
+            sets.setdefault(str(t.condition.get("afo") or "unnamed AFO"), []).append(t)
+    return sets
+
+
+def analyze_afo_sets(store: SessionStore) -> dict[str, dict[str, Any]]:
+    """Every AFO set's stiffness (Tables 2.1 and 2.2), each remembered in the store like any analysis."""
+    from analysis.aads.model import load_jig_model
+
+    from .afo import analyze_afo, resolve_trials
+    from .results import remembered
+
+    model = load_jig_model()
+    out = {}
+    for afo, records in afo_sets(store).items():
+        def compute(records: list[TrialRecord] = records) -> dict[str, Any]:
+            exp = analyze_afo(resolve_trials([str(r.id) for r in records], store, model=model), model)
+            return {"json": exp.as_dict(), "text": exp.text()}
+
+        if store.read_only:
+            out[afo] = {**compute(), "read_back": False}
+        else:
+            payload, read_back = remembered(store, "afo_set", records, {"spring": None, "spring_n_per_m": None},
+                                            compute)
+            out[afo] = {**payload, "read_back": read_back}
+    return out
+
+
 def analyze_cohort(store: SessionStore, out_dir: Path, *, codes: Sequence[str] | None = None, bootstrap: int = 20,
                    intervals: int = 12, seed: int = 0, scheduler: str | None = None, workers: int | None = None,
                    progress: Callable[[int, int, int, int], None] | None = None) -> tuple[CohortRun, list[Path]]:
     """The cohort analysis of a store: fits (on Dask, results kept in the store) and the report files."""
     from analysis.pmp.cohort_report import write_cohort
 
-    study = study_from_store(store, codes)
+    afo = analyze_afo_sets(store) if not codes else {}
+    study = study_from_store(store, codes) if codes or any(
+        t.protocol in ("knee", "ankle") for t in store.trials()) else []
     run = run_cohort(study, store, bootstrap=bootstrap, intervals=intervals, seed=seed, scheduler=scheduler,
-                     workers=workers, progress=progress)
-    files = write_cohort(out_dir, run.summaries, engine_account(run, len(study)))
+                     workers=workers, progress=progress) if study else CohortRun([], 0, 0, 0, [], 0.0, 0.0, 0, "none", {})
+    run.afo_sets = afo
+    if not study and not afo:
+        raise InstrumentError(f"{store.root}: no subject with usable knee or ankle trials and no AADS set")
+    files = write_cohort(out_dir, run.summaries, engine_account(run, len(study)),
+                         {"afo_sets": {k: v["json"] for k, v in afo.items()}})
     return run, files
 
 

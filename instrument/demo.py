@@ -289,6 +289,9 @@ def cohort(out: Path, subjects: int = 0, bootstrap: int = 3) -> tuple[dict[str, 
         show = progress_printer(every=default_every(n * (1 + bootstrap)))
         run, files = analyze_cohort(store, where, bootstrap=bootstrap, workers=2, progress=show)
         print("  " + text(run.summaries, engine_account(run, n)).replace("\n", "\n  "))
+        for afo, res in run.afo_sets.items():
+            print(f"  AFO set {afo!r} ({len(res['json']['trials'])} trials):")
+            print("    " + res["text"].replace("\n", "\n    "))
         again, _ = analyze_cohort(store, where, bootstrap=bootstrap, workers=2)
         print(f"  re-run with the same trials and settings: {again.read_back} of {again.solves} results read back "
               f"from the store, {again.solved_now} solved")
