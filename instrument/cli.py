@@ -91,7 +91,10 @@ def build_parser() -> argparse.ArgumentParser:
     afo.add_argument("--recompute", action="store_true", help="analyse again even if the store holds this analysis")
 
     dia = sub.add_parser("diagnose", help="what the model of a trial gets wrong, and why")
-    dia.add_argument("file", type=Path, help="a trial CSV (with its .json sidecar) or an instrument trial file (.h5)")
+    dia.add_argument("file", type=Path, help="a store trial id, a trial CSV (with its .json sidecar) or an "
+                     "instrument trial file (.h5); a store id brings the subject's anthropometrics (limb weight "
+                     "and inertia)")
+    dia.add_argument("--store", type=Path, default=None, help="store folder for a trial id")
     dia.add_argument("--kind", choices=("afo", "knee", "ankle", "replica"), default=None,
                      help="trial kind (default: the sidecar's or the recording's)")
     dia.add_argument("--json", action="store_true", help="print the JSON result")
@@ -247,11 +250,13 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
     from analysis.diagnosis import diagnose, from_table, write_diagnosis_plot
     from analysis.trial_csv import read_trial_csv
 
-    from .export import trial_table
-    from .recording import read_trial
+    from .loading import load_trials
 
-    if args.file.suffix.lower() in (".h5", ".hdf5"):
-        table = trial_table(read_trial(args.file))
+    spec = str(args.file)
+    if spec.isdigit() and not args.file.exists():
+        table = load_trials([spec], _store(args.store, read_only=True))[0].table()
+    elif args.file.suffix.lower() in (".h5", ".hdf5"):
+        table = load_trials([spec], None)[0].table()
     else:
         table = read_trial_csv(args.file)
     result = diagnose(from_table(table, args.kind))

@@ -80,7 +80,9 @@ def trial_table(trial: TrialFile, subject: dict[str, Any] | None = None) -> Tria
                  "ankle_dorsiflexion_deg": cond.get("ankle_dorsiflexion_deg")}
         return TrialTable(cols, {"kind": name, **{k: v for k, v in fixed.items() if v is not None},
                                  "subject": _subject_block(subject), "source": trial.path.name,
-                                 "trial_status": trial.status})
+                                 "trial_status": trial.status,
+                                 # the arm turns with the limb: its inertia is in the torque (its weight is not)
+                                 "arm_inertia_kgm2": float(cond["arm_mass_kg"]) * float(cond["arm_com_m"]) ** 2})
     if name == "replica":
         d = trial.devices["torque_sensor"].channels
         t = d["time_s"]

@@ -84,10 +84,11 @@ class Prepared:
             raise InputError(f"{trial.source or 'trial'}: {int(keep.sum())} samples at or above {min_angle_deg}°; "
                              "the diagnosis needs 50")
         th = trial.angle_rad[keep]
-        return cls(trial, trial.time_s[keep], th, trial.velocity_rad_s()[keep], (trial.torque_nm - grav)[keep],
+        alpha = savgol_filter(trial.angle_rad, n, 3, deriv=2, delta=1.0 / trial.rate_hz)
+        known = grav + trial.known_inertia_kgm2() * alpha  # the limb's weight and the known moving inertia
+        return cls(trial, trial.time_s[keep], th, trial.velocity_rad_s()[keep], (trial.torque_nm - known)[keep],
                    savgol_filter(trial.torque_nm, n, 2)[keep], float(th.min()), float(th.max()), grav[keep],
-                   trial.gravity_shape()[keep], trial.torque_nm[keep],
-                   savgol_filter(trial.angle_rad, n, 3, deriv=2, delta=1.0 / trial.rate_hz)[keep])
+                   trial.gravity_shape()[keep], trial.torque_nm[keep], alpha[keep])
 
 
 def normal_lstsq(x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -267,7 +268,8 @@ CAUSES: dict[str, Cause] = {c.name: c for c in [
           lambda c, nl: {"gravity_moment_error_Nm": float(c[0])}, "gravity_moment_error_Nm"),
     Cause("time_delay", "the torque channel lagging the angle channel", ("afo", "knee", "ankle"), _delayed,
           lambda c, nl: {"delay_s": float(nl[0])}, "delay_s", lambda p: [np.linspace(0.0, 0.3, 31)], hysteretic=True),
-    Cause("inertia", "torque proportional to angular acceleration (the moving mass at speed changes)",
+    Cause("inertia", "torque proportional to angular acceleration beyond the known limb and arm inertia "
+          "(a moving mass not accounted for)",
           ("knee", "ankle"), lambda p, nl: _plain(p, p.alpha), lambda c, nl: {"inertia_kgm2": float(c[0])}, "inertia_kgm2",
           transient=True, hysteretic=True),  # accelerations happen at speed changes only: held-out blocks cannot learn it
     Cause("sensor_drift", "torque offset drifting with time", ("afo", "knee", "ankle", "replica"),

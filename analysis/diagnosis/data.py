@@ -35,6 +35,9 @@ class DiagnosisTrial:
     fixed_deg: dict[str, float] = field(default_factory=dict)  # hip_flexion_deg, knee_flexion_deg, ...
     subject: dict[str, Any] = field(default_factory=dict)      # mass_kg, shank_length_m, foot_length_m, ...
     source: str = ""
+    #: inertia of what turns with the joint besides the limb (the dynamometer's arm), kg·m²; None when
+    #: the torque is not a dynamometer's raw torque (no moving inertia is known to be in it)
+    rig_inertia_kgm2: float | None = None
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
@@ -62,7 +65,7 @@ class DiagnosisTrial:
         def mean(x: np.ndarray) -> np.ndarray:
             return x[:n].reshape(-1, q).mean(axis=1)
         return DiagnosisTrial(self.kind, mean(self.time_s), mean(self.angle_rad), mean(self.torque_nm),
-                              dict(self.fixed_deg), dict(self.subject), self.source)
+                              dict(self.fixed_deg), dict(self.subject), self.source, self.rig_inertia_kgm2)
 
     def velocity_rad_s(self, window_s: float = 0.15) -> np.ndarray:
         """Angular velocity by a Savitzky–Golay derivative (cubic, ``window_s`` wide)."""
@@ -84,6 +87,26 @@ class DiagnosisTrial:
             return 0.0145 * m * 0.5 * foot * G_M_S2 * np.cos(self.angle_rad + np.pi / 2 - knee)
         return np.zeros_like(self.angle_rad)
 
+    def known_inertia_kgm2(self) -> float:
+        """What is known to turn with the joint (kg·m²): the limb distal to it from the subject (Winter's
+        segment fractions, as the estimator's) and the rig's arm; 0 for AFO and replica trials and when
+        the trial does not say its torque is a dynamometer's (``rig_inertia_kgm2`` None). The baseline
+        carries it, so the ``inertia`` cause names only an error beyond it."""
+        if self.rig_inertia_kgm2 is None:
+            return 0.0
+        m = float(self.subject.get("mass_kg") or 0.0)
+        if self.kind == "knee":
+            shank = float(self.subject.get("shank_length_m") or 0.42)
+            ms, mf = 0.0465 * m, 0.0145 * m
+            limb = ms * (0.302 * shank) ** 2 + ms * (0.433 * shank) ** 2 + mf * shank**2
+        elif self.kind == "ankle":
+            foot = float(self.subject.get("foot_length_m") or 0.26)
+            mf = 0.0145 * m
+            limb = mf * (0.475 * foot) ** 2 + mf * (0.5 * foot) ** 2
+        else:
+            return 0.0
+        return limb + float(self.rig_inertia_kgm2)
+
     def gravity_shape(self) -> np.ndarray:
         """Unit shape of a gravity error (the limb's torque per N·m of weight moment)."""
         if self.kind == "ankle":
@@ -101,4 +124,5 @@ def from_table(table: TrialTable, kind: str | None = None) -> DiagnosisTrial:
     fixed = {n: float(side[n]) for n in ("hip_flexion_deg", "knee_flexion_deg", "ankle_dorsiflexion_deg")
              if side.get(n) is not None}
     return DiagnosisTrial(k, table.time_s, np.deg2rad(table.angle_deg), table.torque_nm, fixed,
-                          dict(side.get("subject") or {}), str(side.get("source", "")))
+                          dict(side.get("subject") or {}), str(side.get("source", "")),
+                          None if side.get("arm_inertia_kgm2") is None else float(side["arm_inertia_kgm2"]))

@@ -147,3 +147,12 @@ def test_cli_refuses_a_bootstrap_without_spread_and_an_empty_store(tmp_path: Pat
     assert main(["analyze", "cohort", "--store", str(tmp_path), "--bootstrap", "2", "--workers", "1"]) == 1
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "no subject with usable knee or ankle trials" in err[0]
+
+
+def test_the_same_run_goes_to_a_lab_cluster_by_its_scheduler_address(tmp_path: Path, client: Any) -> None:
+    store = SessionStore(tmp_path)
+    run = run_cohort([_subject("S01", 31)], store, bootstrap=2, intervals=4, scheduler=client.scheduler.address)
+    assert run.scheduler == client.scheduler.address and run.workers == 2
+    assert (run.solved_now, run.failed) == (3, []) and len(_rows(store)) == 3
+    assert client.status == "running"  # the lab's cluster is left running for its other users
+    store.close()
