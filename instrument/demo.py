@@ -99,7 +99,7 @@ def lab_day(out: Path, quick: bool) -> tuple[list[dict[str, Any]], bool]:
         (store_dir / "store.sqlite").unlink()
     print(f"\nRecording a simulated lab day into {store_dir} (AADS 3 springs, knee hip 90/55/15°, "
           f"ankle knee 0/45/90°, replica leg; rooms in parallel) ...")
-    store, outcomes = record_lab_day(store_dir, quick=quick)
+    store, outcomes = record_lab_day(store_dir, quick=quick, progress=lambda line: print(line, flush=True))
     rows = summary_rows(store)
     print(f"{'trial':>5} {'protocol':<8} {'status':<10} {'samples':<42} condition")
     for r in rows:

@@ -7,6 +7,7 @@ The trials of different rigs are independent simulated labs, so they are recorde
 from __future__ import annotations
 
 import threading
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -30,8 +31,12 @@ def plan(quick: bool) -> list[tuple[str, TrialProtocol]]:
     return trials
 
 
-def record_lab_day(store_dir: Path, quick: bool = True) -> tuple[SessionStore, list[TrialOutcome]]:
-    """Record the day's trials into ``store_dir``; returns the store and the outcomes in plan order."""
+def record_lab_day(store_dir: Path, quick: bool = True,
+                   progress: Callable[[str], None] | None = None) -> tuple[SessionStore, list[TrialOutcome]]:
+    """Record the day's trials into ``store_dir``; returns the store and the outcomes in plan order.
+
+    :param progress: called with a line after each trial (rooms record at once, so in finishing order).
+    """
     store = SessionStore(store_dir)
     store.add_subject(SUBJECT)
     sessions = {room: store.new_session(SUBJECT.code, operator=f"{room}-operator", notes="simulated lab day")
@@ -39,6 +44,8 @@ def record_lab_day(store_dir: Path, quick: bool = True) -> tuple[SessionStore, l
     trials = plan(quick)
     outcomes: list[TrialOutcome | None] = [None] * len(trials)
     errors: list[BaseException] = []
+    lock = threading.Lock()
+    done = [0]
 
     def room(name: str) -> None:
         for i, (r, proto) in enumerate(trials):
@@ -48,6 +55,12 @@ def record_lab_day(store_dir: Path, quick: bool = True) -> tuple[SessionStore, l
                 with simulated_devices(proto, lab_config_for(proto, seed=i)) as (lab, devices):
                     outcomes[i] = record_trial(store, sessions[r], proto, devices, operator=f"{r}-operator",
                                                trial_number=1, extra_metadata=simulation_metadata(lab))
+                if progress is not None:
+                    with lock:
+                        done[0] += 1
+                        o = outcomes[i]
+                        progress(f"  lab day: {done[0]}/{len(trials)} trials recorded ({r} room: {proto.name} "
+                                 f"{proto.condition_text()}, {o.status if o else '?'}, {o.duration_s if o else 0:.1f} s)")
             except BaseException as err:  # noqa: BLE001 - reported after the other rooms finish
                 errors.append(err)
 

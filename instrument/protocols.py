@@ -57,6 +57,11 @@ class TrialProtocol(ABC):
     def expected_duration_s(self) -> float:
         return float("nan")
 
+    def condition_text(self) -> str:
+        """The condition in a few words, for progress lines and titles (default: the fixed joint, if any)."""
+        fixed = getattr(self, "fixed_joint_text", None)
+        return fixed() if callable(fixed) else ""
+
     # what a trial kind is, asked by the runner, the GUI and the CLI (no isinstance chains there)
     #: the live relaxation check runs on this kind's dynamometer sweep
     relaxation_monitored: ClassVar[bool] = False
@@ -132,6 +137,9 @@ class AadsProtocol(TrialProtocol):
         return {"spring": self.spring, "spring_n_per_m": self.spring_n_per_m, "operator": self.operator,
                 "trial": self.trial, "fit_window_deg": list(self.fit_window_deg), "stop_deg": self.stop_deg, "afo": self.afo,
                 "live_markers": self.live_markers, "plate_zeroed_unloaded": self.plate_zero_v is not None}
+
+    def condition_text(self) -> str:
+        return f"spring {self.spring}, operator {self.operator}, trial {self.trial}"
 
     def prepare(self, devices: dict[str, StreamingDevice]) -> None:
         """Zero the plate with the AFO lifted off, when the operator's hand is available; the
@@ -328,6 +336,9 @@ class ReplicaProtocol(TrialProtocol):
     def condition(self) -> dict[str, Any]:
         return {"joint": "knee", "hip_flexion_deg": 90.0, "angles_deg": list(self.angles_deg), "hold_s": self.hold_s,
                 "sensor_tared_unloaded": self.tare_zero_nm is not None}
+
+    def condition_text(self) -> str:
+        return f"{len(self.angles_deg)} holds at hip 90°"
 
     def prepare(self, devices: dict[str, StreamingDevice]) -> None:
         """Tare the sensor with the shank off, when the operator's hand is available: the rig can

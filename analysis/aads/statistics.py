@@ -100,8 +100,8 @@ def anova_table(records: Sequence[StiffnessRecord]) -> list[AnovaRow]:
     frame = anova_frame(records)
     for name in FACTORS:
         if frame[name].nunique() < 2:
-            levels = [v.item() if hasattr(v, "item") else v for v in sorted(frame[name].unique())]
-            raise FitError(f"the ANOVA needs at least two {name}s; the trials have {levels}")
+            seen = [v.item() if hasattr(v, "item") else v for v in sorted(frame[name].unique())]
+            raise FitError(f"the ANOVA needs at least two {name}s; the trials have {seen}")
     levels = {name: frame[name].nunique() for name in FACTORS}
     terms = 1 + sum(v - 1 for v in levels.values()) + (levels["spring"] - 1) * (levels["operator"] - 1)
     if len(frame) - terms < 1:
