@@ -248,7 +248,8 @@ def passive_parameters(out: Path) -> tuple[dict[str, Any], bool]:
               "estimator, each judged by predicting the left-out hip condition", flush=True)
         report = analyse([trial_from_table(t) for t in tables], subject_from(tables[0].sidecar.get("subject") or {}),
                          diagnose_model=len(tables) >= 3, model_intervals=12,
-                         model_candidates=["viscous_damping", "limb_mass_error", "torque_offset"])
+                         model_candidates=["viscous_damping", "limb_mass_error", "torque_offset"],
+                         progress=lambda line: print(f"    {line}", flush=True))
     except AnalysisError as err:
         print(f"  PROBLEM: {err}")
         return {"error": str(err)}, False

@@ -24,6 +24,7 @@ muscles (0.02–0.12). All decision variables are scaled to order one.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -213,8 +214,12 @@ def _eliminate_tendons(moment: Any, residuals: list[Any], lts: list[Any], args: 
 
 def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None = None, intervals: int = 40,
              max_iter: int = 300, initial: dict[str, float] | None = None, parameters: ParameterSet | None = None,
-             moment: Any = None, extension: Any = None) -> PmpResult:
+             moment: Any = None, extension: Any = None,
+             progress: Callable[[int, float], None] | None = None) -> PmpResult:
     """Fit the passive parameters shared by ``trials`` (all at once).
+
+    ``progress(iteration, objective)`` is called after every IPOPT iteration (a progress line for
+    a fit that takes seconds).
 
     ``parameters`` and ``moment(trial, q, par) → (moment, equilibrium residuals, tendon symbols)``
     replace the eleven-muscle leg with another passive model (a test rig, or the single-muscle
@@ -316,6 +321,8 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
     opti.minimize(cost + reg)
     opti.solver("ipopt", {"print_time": False}, {"print_level": 0, "max_iter": max_iter, "tol": 1e-8,
                                                   "sb": "yes"})
+    if progress is not None:
+        opti.callback(lambda i: progress(int(i), float(opti.debug.value(cost + reg))))
     t0 = time.perf_counter()
     try:
         sol: Any = opti.solve()

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -91,12 +92,20 @@ def subject_from(data: dict[str, Any]) -> Subject:
 
 
 def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagnose_model: bool = False,
-            model_candidates: list[str] | None = None, model_intervals: int | None = None) -> dict[str, Any]:
+            model_candidates: list[str] | None = None, model_intervals: int | None = None,
+            progress: Callable[[str], None] | None = None) -> dict[str, Any]:
     """Fit, identifiability, physiological stiffness of the determined parameters, and forward dynamics;
     with ``diagnose_model``, the model-level diagnosis too (:mod:`analysis.pmp.model_diagnosis`: every
     candidate extension fitted inside the estimator, judged by held-out prediction across trials)."""
     leg = LegMuscles(length_scale=scale_for_subject(subject.shank_length_m))
-    res = estimate(trials, subject, leg=leg, intervals=intervals)
+    def iteration(i: int, objective: float) -> None:
+        if progress is not None and i % 5 == 0:
+            progress(f"IPOPT iteration {i}: objective {objective:.4g}")
+
+    res = estimate(trials, subject, leg=leg, intervals=intervals, progress=iteration if progress else None)
+    if progress is not None:
+        progress(f"fit done: {res.iterations} iterations, {res.solve_time_s:.1f} s ({res.message}); "
+                 f"identifiability and forward dynamics ...")
     idf = identifiability(res, trials, subject, leg=leg)
     stiff: dict[str, Any] = {"tendon_kN_per_m": {}, "muscle_N_per_m": {}}
     tendons = {}
@@ -118,6 +127,9 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
     model = None
     if diagnose_model:
         from .model_diagnosis import diagnose_model as run_model_diagnosis
+
+        if progress is not None:
+            progress("model-level diagnosis: each candidate fitted and judged on held-out trials ...")
         model = run_model_diagnosis(trials, subject, leg=leg, intervals=model_intervals or intervals,
                                     plain=res if not model_intervals or model_intervals == intervals else None,
                                     candidates=model_candidates)
