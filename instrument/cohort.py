@@ -138,7 +138,8 @@ def study_from_store(store: SessionStore, codes: Sequence[str] | None = None) ->
     return out
 
 
-def _cluster(scheduler: str | None, workers: int | None) -> tuple[Any, Any, int]:
+def local_client(scheduler: str | None = None, workers: int | None = None) -> tuple[Any, Any, int]:
+    """(client, the LocalCluster or None, workers): a lab scheduler's client, or an embedded LocalCluster."""
     from distributed import Client, LocalCluster
 
     for name in ("distributed", "bokeh", "tornado"):  # the engine's chatter is not the operator's
@@ -171,7 +172,7 @@ def run_cohort(study: list[StudySubject], results: ResultSink, *, bootstrap: int
     own = client is None
     cluster = None
     if own:
-        client, cluster, n_workers = _cluster(scheduler, workers)
+        client, cluster, n_workers = local_client(scheduler, workers)
     else:
         n_workers = len(client.scheduler_info().get("workers", {}))
     done = failed_n = read_back = solved = 0
@@ -297,15 +298,19 @@ def analyze_afo_sets(store: SessionStore) -> dict[str, dict[str, Any]]:
 
 def analyze_cohort(store: SessionStore, out_dir: Path, *, codes: Sequence[str] | None = None, bootstrap: int = 20,
                    intervals: int = 12, seed: int = 0, scheduler: str | None = None, workers: int | None = None,
-                   progress: Callable[[int, int, int, int], None] | None = None) -> tuple[CohortRun, list[Path]]:
-    """The cohort analysis of a store: fits (on Dask, results kept in the store) and the report files."""
+                   progress: Callable[[int, int, int, int], None] | None = None,
+                   client: Any = None) -> tuple[CohortRun, list[Path]]:
+    """The cohort analysis of a store: fits (on Dask, results kept in the store) and the report files.
+
+    ``client``: a ``distributed.Client`` to use (and leave open), e.g. for several runs on one cluster.
+    """
     from analysis.pmp.cohort_report import write_cohort
 
     afo = analyze_afo_sets(store) if not codes else {}
     study = study_from_store(store, codes) if codes or any(
         t.protocol in ("knee", "ankle") for t in store.trials()) else []
     run = run_cohort(study, store, bootstrap=bootstrap, intervals=intervals, seed=seed, scheduler=scheduler,
-                     workers=workers, progress=progress) if study else CohortRun([], 0, 0, 0, [], 0.0, 0.0, 0, "none", {})
+                     workers=workers, progress=progress, client=client) if study else CohortRun([], 0, 0, 0, [], 0.0, 0.0, 0, "none", {})
     run.afo_sets = afo
     if not study and not afo:
         raise InstrumentError(f"{store.root}: no subject with usable knee or ankle trials and no AADS set")

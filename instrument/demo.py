@@ -264,7 +264,7 @@ def cohort(out: Path, subjects: int = 0, bootstrap: int = 3) -> tuple[dict[str, 
     known muscle parameters, recorded through the drivers and checked against its truth."""
     from analysis.pmp.cohort_report import text
 
-    from .cohort import analyze_cohort, default_every, engine_account, progress_printer
+    from .cohort import analyze_cohort, default_every, engine_account, local_client, progress_printer
     from .store import SessionStore
     from .study import record_study
 
@@ -280,6 +280,7 @@ def cohort(out: Path, subjects: int = 0, bootstrap: int = 3) -> tuple[dict[str, 
     else:
         store = SessionStore(out / "store")
         where = out / "cohort"
+    client, cluster, _ = local_client(workers=2)  # one cluster for the run and its re-run
     try:
         n = len(store.subjects())
         print(f"\nCohort analysis on Dask (LocalCluster, 2 worker processes): {n} subject(s) x (1 fit + "
@@ -288,16 +289,18 @@ def cohort(out: Path, subjects: int = 0, bootstrap: int = 3) -> tuple[dict[str, 
             print("  (the lab day's subject resists with Riener & Edrich's moments, not the muscle model's: the "
                   "report should say the model does not fit well enough to determine anything)", flush=True)
         show = progress_printer(every=default_every(n * (1 + bootstrap)))
-        run, files = analyze_cohort(store, where, bootstrap=bootstrap, workers=2, progress=show)
+        run, files = analyze_cohort(store, where, bootstrap=bootstrap, progress=show, client=client)
         print("  " + text(run.summaries, engine_account(run, n)).replace("\n", "\n  "))
         for afo, res in run.afo_sets.items():
             print(f"  AFO set {afo!r} ({len(res['json']['trials'])} trials):")
             print("    " + res["text"].replace("\n", "\n    "))
-        again, _ = analyze_cohort(store, where, bootstrap=bootstrap, workers=2)
+        again, _ = analyze_cohort(store, where, bootstrap=bootstrap, client=client)
         print(f"  re-run with the same trials and settings: {again.read_back} of {again.solves} results read back "
               f"from the store, {again.solved_now} solved")
     finally:
         store.close()
+        client.close()
+        cluster.close()
     for f in files:
         print(f"  wrote {f}")
     ok = not run.failed and again.solved_now == 0
