@@ -10,7 +10,7 @@ from analysis.aads.experiment import AadsExperiment, TrialInput, analyze_experim
 from analysis.aads.model import JigModel
 
 from .errors import InstrumentError
-from .export import motion_trial
+from .motion import motion_trial
 from .recording import read_trial
 from .store import SessionStore
 

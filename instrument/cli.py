@@ -253,23 +253,21 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
     from .loading import load_trials
 
     spec = str(args.file)
-    if spec.isdigit() and not args.file.exists():
-        table = load_trials([spec], _store(args.store, read_only=True))[0].table()
-    elif args.file.suffix.lower() in (".h5", ".hdf5"):
-        table = load_trials([spec], None)[0].table()
-    else:
-        table = read_trial_csv(args.file)
-    result = diagnose(from_table(table, args.kind))
-    if args.plot:
-        write_diagnosis_plot(result, args.plot)
-    if args.json:
-        print(json.dumps(result.as_dict(), indent=2))
-    else:
-        print(f"{args.file}:")
-        print(result.text())
-        if args.plot:
-            print(f"wrote {args.plot}")
-    return 0
+
+    def compute() -> dict:
+        if spec.isdigit() and not args.file.exists():
+            table = load_trials([spec], _store(args.store, read_only=True))[0].table()
+        elif args.file.suffix.lower() in (".h5", ".hdf5"):
+            table = load_trials([spec], None)[0].table()
+        else:
+            table = read_trial_csv(args.file)
+        result = diagnose(from_table(table, args.kind))
+        files = [str(write_diagnosis_plot(result, args.plot))] if args.plot else []
+        return {"json": result.as_dict(), "text": f"{args.file}:\n{result.text()}", "files": files}
+
+    # a store trial's diagnosis is kept with its inputs, like every analysis (read back on a re-run)
+    args.trials = [spec]
+    return _show(args, _remember(args, "diagnosis", {"kind": args.kind}, compute))
 
 
 def cmd_gui(args: argparse.Namespace) -> int:

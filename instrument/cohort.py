@@ -32,6 +32,8 @@ from .errors import InstrumentError
 from .loading import records_as_loaded
 from .store import SessionStore, TrialRecord, file_sha256
 
+log = logging.getLogger(__name__)
+
 #: trial statuses a cohort fit uses
 USABLE_STATUSES = ("accepted", "recorded")
 #: result kinds in the store
@@ -96,10 +98,15 @@ class CohortRun:
     worker_pids: set[int] = field(default_factory=set)
     #: every AFO set's stiffness analysis (Tables 2.1, 2.2) by AFO name: ``json``, ``text``, ``read_back``
     afo_sets: dict[str, dict[str, Any]] = field(default_factory=dict)
+    #: subjects of the store the run left out, with the reason
+    left_out: list[str] = field(default_factory=list)
 
 
-def study_from_store(store: SessionStore, codes: Sequence[str] | None = None) -> list[StudySubject]:
-    """Every subject (or ``codes``) with its usable knee and ankle trials.
+def study_from_store(store: SessionStore, codes: Sequence[str] | None = None,
+                     left_out: list[str] | None = None) -> list[StudySubject]:
+    """Every subject (or ``codes``) with its usable knee and ankle trials; a subject whose
+    anthropometrics are missing or out of range is left out (the reason appended to ``left_out``),
+    or, when named in ``codes``, refused.
 
     :raises InstrumentError: a named subject has no usable trial, or no subject has any.
     """
@@ -108,6 +115,7 @@ def study_from_store(store: SessionStore, codes: Sequence[str] | None = None) ->
 
     wanted = list(codes) if codes else [s.code for s in store.subjects()]
     out = []
+    skipped: list[str] = []
     for code in wanted:
         records = [t for t in store.trials() if t.subject_code == code and t.protocol in ("knee", "ankle")]
         usable = [t for t in records if t.status in USABLE_STATUSES and t.repeated_by is None]
@@ -127,14 +135,25 @@ def study_from_store(store: SessionStore, codes: Sequence[str] | None = None) ->
                 excluded.append(f"trial {lt.spec}: {err}")
         if not trials:
             continue
-        subject = subject_from(store.subject(code).as_dict())
+        try:
+            subject = subject_from(store.subject(code).as_dict())
+        except AnalysisError as err:  # missing or absurd anthropometrics: the subject is left out, and said so
+            if codes:
+                raise InstrumentError(f"subject {code}: {err}") from err
+            skipped.append(f"subject {code}: {err}")
+            continue
         truth = loaded[0].metadata.get("study_truth") if loaded else None
         out.append(StudySubject(code, trials, subject,
                                 {"trial_ids": [t.id for t in usable],
                                  "files": {str(t.path): file_sha256(Path(t.path)) for t in usable}},
                                 truth, excluded))
     if not out:
-        raise InstrumentError(f"{store.root}: no subject with usable knee or ankle trials")
+        raise InstrumentError(f"{store.root}: no subject with usable knee or ankle trials"
+                              + (f" ({'; '.join(skipped)})" if skipped else ""))
+    if skipped:
+        log.warning("cohort leaves out %s", "; ".join(skipped))
+    if left_out is not None:
+        left_out.extend(skipped)
     return out
 
 
@@ -261,7 +280,7 @@ def engine_account(run: CohortRun, subjects: int) -> dict[str, Any]:
     """The engine's account of a run, as the report and the JSON state it."""
     return {"subjects": subjects, "solves": run.solves, "solved_now": run.solved_now, "read_back": run.read_back,
             "failed": run.failed, "wall_s": run.wall_s, "task_seconds": run.task_seconds, "workers": run.workers,
-            "scheduler": run.scheduler, "coverage": run.coverage}
+            "scheduler": run.scheduler, "coverage": run.coverage, "left_out": run.left_out}
 
 
 def afo_sets(store: SessionStore) -> dict[str, list[TrialRecord]]:
@@ -307,11 +326,13 @@ def analyze_cohort(store: SessionStore, out_dir: Path, *, codes: Sequence[str] |
     from analysis.pmp.cohort_report import write_cohort
 
     afo = analyze_afo_sets(store) if not codes else {}
-    study = study_from_store(store, codes) if codes or any(
+    left_out: list[str] = []
+    study = study_from_store(store, codes, left_out) if codes or any(
         t.protocol in ("knee", "ankle") for t in store.trials()) else []
     run = run_cohort(study, store, bootstrap=bootstrap, intervals=intervals, seed=seed, scheduler=scheduler,
                      workers=workers, progress=progress, client=client) if study else CohortRun([], 0, 0, 0, [], 0.0, 0.0, 0, "none", {})
     run.afo_sets = afo
+    run.left_out = left_out
     if not study and not afo:
         raise InstrumentError(f"{store.root}: no subject with usable knee or ankle trials and no AADS set")
     files = write_cohort(out_dir, run.summaries, engine_account(run, len(study)),

@@ -15,12 +15,11 @@ import numpy as np
 
 from analysis.c3d import write_c3d
 from analysis.constants import GRAVITY_M_S2
-from analysis.motion import MotionTrial
 from analysis.sto import write_sto
-from analysis.timebase import resample, uniform_grid
 from analysis.trial_csv import TrialTable, write_trial_csv
 
 from .errors import RecordingError
+from .motion import motion_trial
 from .recording import TrialFile
 
 G = GRAVITY_M_S2
@@ -130,32 +129,6 @@ def aads_table(trial: TrialFile, subject: dict[str, Any] | None = None, model_pa
     return TrialTable(cols, {"kind": "afo", "jig_model": model.source, "stiffness": res.summary(),
                              "subject": _subject_block(subject), "source": trial.path.name,
                              "trial_status": trial.status})
-
-
-def motion_trial(trial: TrialFile) -> MotionTrial:
-    """Markers and force plate of an AADS trial, times relative to the first marker frame."""
-    if "mocap" not in trial.devices or "force_plate" not in trial.devices:
-        raise ExportError(f"{trial.path}: needs motion capture and force plate data (has {sorted(trial.devices)})")
-    mk, fp = trial.devices["mocap"], trial.devices["force_plate"]
-    if mk.samples == 0 or fp.samples == 0:
-        raise ExportError(f"{trial.path}: no samples (markers {mk.samples}, plate {fp.samples})")
-    return motion_from_channels(mk.channels, mk.identity, fp.channels, fp.identity, str(trial.path))
-
-
-def motion_from_channels(markers: dict[str, np.ndarray], mocap_identity: dict[str, Any], plate: dict[str, np.ndarray],
-                         plate_identity: dict[str, Any], source: str = "") -> MotionTrial:
-    """A MotionTrial from recorded (or live ring-buffer) mocap and force-plate channels, on the marker clock."""
-    labels = mocap_identity.get("labels") or [f"M{i}" for i in range(markers["position_m"].shape[1])]
-    t0 = float(markers["time_s"][0])
-    plate_rate = float(plate_identity.get("rate_hz") or 1000.0)
-    t_fp = plate["time_s"]
-    grid = uniform_grid(t0, min(float(t_fp[-1]), float(markers["time_s"][-1])), plate_rate)
-    stacked = np.hstack([plate["force_n"], plate["cop_m"], plate["free_moment_nm"][:, None]])
-    on_grid = resample(t_fp, stacked, grid, max_gap_s=2.5 / plate_rate)
-    cop = np.column_stack([on_grid[:, 3:5], np.zeros(grid.size)])
-    return MotionTrial(markers["time_s"] - t0, markers["position_m"], list(labels), grid - t0,
-                       on_grid[:, :3], cop, np.nan_to_num(on_grid[:, 5]), source,
-                       {"plate_identity": plate_identity, "mocap_identity": mocap_identity})
 
 
 def export_targets(fmt: str, out: str | Path) -> list[Path]:

@@ -118,7 +118,7 @@ class AadsLoopWatch:
         from analysis.aads.pipeline import analyze_trial
         from analysis.errors import AnalysisError
 
-        from .export import motion_from_channels
+        from .motion import motion_from_channels
 
         if "mocap" not in rings or "force_plate" not in rings:
             return None

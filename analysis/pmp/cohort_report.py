@@ -115,6 +115,8 @@ def text(summaries: list[dict[str, Any]], engine: dict[str, Any] | None = None) 
                      f"{engine['scheduler']} in {engine['wall_s']:.1f} s")
         for f in engine["failed"]:
             lines.append(f"  FAILED {f}")
+        for f in engine.get("left_out", []):
+            lines.append(f"  left out: {f}")
     lines.append("\nTable 3.3: forward-dynamics RMSE per subject (mean over its trials)")
     lines.append(f"  {'subject':<8} {'trials':>6} {'motion (deg)':>13} {'torque (N·m/kg)':>16}")
     for r in table_3_3(summaries):

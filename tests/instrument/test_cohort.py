@@ -156,3 +156,27 @@ def test_the_same_run_goes_to_a_lab_cluster_by_its_scheduler_address(tmp_path: P
     assert (run.solved_now, run.failed) == (3, []) and len(_rows(store)) == 3
     assert client.status == "running"  # the lab's cluster is left running for its other users
     store.close()
+
+
+def test_a_subject_without_anthropometrics_is_left_out_and_said_so(tmp_path: Path) -> None:
+    from instrument.cohort import study_from_store
+    from instrument.errors import InstrumentError
+    from instrument.protocols import KneeProtocol
+    from instrument.session import record_trial
+    from instrument.simulate import simulated_devices
+    from instrument.store import Subject
+
+    store = SessionStore(tmp_path)
+    store.add_subject(Subject("S01", mass_kg=75.0, shank_length_m=0.42, foot_length_m=0.26))
+    store.add_subject(Subject("S02", mass_kg=None, shank_length_m=0.42, foot_length_m=0.26))
+    for code in ("S01", "S02"):
+        proto = KneeProtocol(end_deg=30.0, speed_deg_s=15.0)
+        with simulated_devices(proto) as (_, devices):
+            record_trial(store, store.new_session(code), proto, devices)
+    left_out: list[str] = []
+    study = study_from_store(store, left_out=left_out)
+    assert [s.code for s in study] == ["S01"] and len(study[0].trials) == 1
+    assert len(left_out) == 1 and left_out[0].startswith("subject S02:") and "mass_kg is missing" in left_out[0]
+    with pytest.raises(InstrumentError, match="subject S02: .*mass_kg is missing"):
+        study_from_store(store, ["S02"])
+    store.close()

@@ -98,3 +98,29 @@ def test_the_loader_gives_store_trials_their_subject_and_the_index_verdict(demo_
         assert ti.factors["store_trial_id"] == aads[0].id and ti.factors["spring"] is not None
     finally:
         store.close()
+
+
+def test_the_demo_runs_the_cohort_and_remembers_every_analysis(demo_run: tuple[Path, str],
+                                                                capsys: pytest.CaptureFixture[str]) -> None:
+    from instrument.store import SessionStore
+
+    out, printed = demo_run
+    cohort = json.loads((out / "demo.json").read_text())["cohort"]
+    assert cohort["engine"]["solves"] == 4 and cohort["engine"]["failed"] == []
+    assert cohort["rerun_read_back"] == 4  # the re-run solved nothing: every result came from the store
+    assert (out / "cohort" / "cohort_parameters.png").exists() and (out / "cohort" / "table_3_3.csv").exists()
+    assert "lab day: 10/10 trials recorded" in printed and "IPOPT iteration" in printed
+    with SessionStore(out / "store") as store:
+        kinds = {r["kind"] for r in store.results()}
+        knee = [t for t in store.trials() if t.protocol == "knee"][0]
+    assert {"pmp_subject_fit", "pmp_bootstrap_fit", "afo_set"} <= kinds
+    # a store trial's diagnosis is kept too, and read back the second time; the limb's and the arm's
+    # inertia are known (the subject comes with the store id), so they are not reported as a cause
+    capsys.readouterr()
+    args = ["diagnose", str(knee.id), "--store", str(out / "store"), "--json"]
+    assert main(args) == 0
+    first = capsys.readouterr()
+    assert main(args) == 0
+    second = capsys.readouterr()
+    assert json.loads(second.out) == json.loads(first.out) and "read back from the store" in second.err
+    assert json.loads(first.out)["cause"] != "inertia"
