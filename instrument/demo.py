@@ -247,7 +247,7 @@ def passive_parameters(out: Path) -> tuple[dict[str, Any], bool]:
         print("  ... and the model-level diagnosis: damping, a limb-mass error and a torque offset fitted inside the "
               "estimator, each judged by predicting the left-out hip condition", flush=True)
         report = analyse([trial_from_table(t) for t in tables], subject_from(tables[0].sidecar.get("subject") or {}),
-                         diagnose_model=len(tables) >= 3, model_intervals=12,
+                         intervals=16, diagnose_model=len(tables) >= 3, model_intervals=12,
                          model_candidates=["viscous_damping", "limb_mass_error", "torque_offset"],
                          progress=lambda line: print(f"    {line}", flush=True))
     except AnalysisError as err:

@@ -25,7 +25,8 @@ def plan(quick: bool) -> list[tuple[str, TrialProtocol]]:
     trials: list[tuple[str, TrialProtocol]] = [
         ("aads", AadsProtocol(spring=s, operator=1 + (s % 4), trial=1, duration_s=3.0 if quick else 8.0))
         for s in (1, 2, 3)]
-    trials += [("knee", KneeProtocol(hip_flexion_deg=h, speed_deg_s=speed)) for h in (90.0, 55.0, 15.0)]
+    # each knee sweep in its own room: the three are the day's longest trials (recorded side by side)
+    trials += [(f"knee-hip{h:g}", KneeProtocol(hip_flexion_deg=h, speed_deg_s=speed)) for h in (90.0, 55.0, 15.0)]
     trials += [("ankle", AnkleProtocol(knee_flexion_deg=k, speed_deg_s=speed)) for k in (0.0, 45.0, 90.0)]
     trials += [("replica", ReplicaProtocol(hold_s=0.5 if quick else 2.0))]
     return trials
@@ -40,7 +41,7 @@ def record_lab_day(store_dir: Path, quick: bool = True,
     store = SessionStore(store_dir)
     store.add_subject(SUBJECT)
     sessions = {room: store.new_session(SUBJECT.code, operator=f"{room}-operator", notes="simulated lab day")
-                for room in ("aads", "knee", "ankle", "replica")}
+                for room in dict.fromkeys(r for r, _ in plan(quick))}
     trials = plan(quick)
     outcomes: list[TrialOutcome | None] = [None] * len(trials)
     errors: list[BaseException] = []
