@@ -207,7 +207,11 @@ def _eliminate_tendons(moment: Any, residuals: list[Any], lts: list[Any], args: 
     if not lts:
         return moment
     z = ca.vertcat(*lts)
-    solve = ca.rootfinder("solve", "newton", ca.Function("g", [z, *args], [ca.vertcat(*residuals)]))
+    # a state outside the calf equilibrium's domain gives NaN, which the caller reports (a forward
+    # simulation that leaves it is NaN, not an exception): CasADi's per-evaluation warnings about it
+    # would print thousands of lines to the operator
+    solve = ca.rootfinder("solve", "newton", ca.Function("g", [z, *args], [ca.vertcat(*residuals)]),
+                          {"show_eval_warnings": False})
     zsol = solve(ca.DM.ones(len(lts)) * 1.01, *args)
     return ca.Function("m", [z, *args], [moment])(zsol, *args)
 
