@@ -168,8 +168,11 @@ def text(report: dict[str, Any]) -> str:
     for m, k in st["muscle_N_per_m"].items():
         lines.append(f"muscle stiffness {m}: {k:.0f} N/m")
     for v in report["forward_dynamics"]:
+        why = ("" if np.isfinite(v.angle_rmse_deg) else
+               " (the simulation left the range where the calf tendons have an equilibrium: the fitted "
+               "parameters do not reproduce this trial's motion)")
         lines.append(f"forward dynamics {v.name}: angle RMSE {v.angle_rmse_deg:.2f}°, torque RMSE "
-                     f"{v.torque_rmse_nm_per_kg:.4f} N·m/kg")
+                     f"{v.torque_rmse_nm_per_kg:.4f} N·m/kg{why}")
     if report.get("model_diagnosis") is not None:
         lines.append(report["model_diagnosis"].text())
     return "\n".join(lines)
