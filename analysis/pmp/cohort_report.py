@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 
 from .muscles import LegMuscles, scale_for_subject
-from .stiffness import muscle_stiffness_n_per_m, tendon_stiffness_n_per_m
+from .stiffness import representative_values
 
 
 def parameter_rows(summaries: list[dict[str, Any]]) -> list[dict[str, Any]]:
@@ -50,19 +50,7 @@ def physiological_values(summary: dict[str, Any], which: str = "estimate") -> di
     (kN/m) and muscle stiffness (N/m), from its estimates (``which="estimate"``) or the generic model's."""
     shank = float(summary["subject"]["shank_length_m"])
     leg = LegMuscles(length_scale=scale_for_subject(shank))
-    vals = {n: float(r[which]) for n, r in summary["parameters"].items()}
-    out: dict[str, dict[str, float]] = {"slack_per_shank": {}, "tendon_kN_per_m": {}, "muscle_N_per_m": {}}
-    for name, v in vals.items():
-        m, what = name.split(".")
-        p = leg.paths[m]
-        if what == "tendon_slack_length_m":
-            out["slack_per_shank"][m] = v / shank
-        elif what == "tendon_strain":
-            ls = vals.get(f"{m}.tendon_slack_length_m", leg.params[m].tendon_slack_length_m)
-            out["tendon_kN_per_m"][m] = tendon_stiffness_n_per_m(p.max_isometric_force_n, ls, v) / 1e3
-        elif what == "passive_strain":
-            out["muscle_N_per_m"][m] = muscle_stiffness_n_per_m(p.max_isometric_force_n, leg.optimal_fiber_length_m(m), v)
-    return out
+    return representative_values(leg, {n: float(r[which]) for n, r in summary["parameters"].items()}, shank)
 
 
 _FIGURES = (("slack_per_shank", "tendon_slack_length_m", "slack length / shank length", "tendon slack length (Fig. 3.15)"),

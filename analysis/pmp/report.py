@@ -15,7 +15,7 @@ from ..trial_csv import SUBJECT_RANGES, TrialTable
 from .estimator import PmpResult, PmpTrial, Subject, estimate, identifiability
 from .geometry import path_ranges_deg
 from .muscles import COMPLIANT, LegMuscles, scale_for_subject
-from .stiffness import achilles_stiffness_kn_per_m, muscle_stiffness_n_per_m, tendon_stiffness_n_per_m
+from .stiffness import FIGURE_QUANTITIES, achilles_stiffness_kn_per_m, representative_values
 from .verify import forward_dynamics
 
 #: how far (deg) a trial may leave the muscle paths' fitted range
@@ -107,22 +107,14 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
         progress(f"fit done: {res.iterations} iterations, {res.solve_time_s:.1f} s ({res.message}); "
                  f"identifiability and forward dynamics ...")
     idf = identifiability(res, trials, subject, leg=leg)
-    stiff: dict[str, Any] = {"tendon_kN_per_m": {}, "muscle_N_per_m": {}}
-    tendons = {}
-    for name in idf["determined"]:
-        m, what = name.split(".")
-        p = leg.paths[m]
-        if what == "tendon_strain":
-            ls = res.parameters.get(f"{m}.tendon_slack_length_m", p.tendon_slack_length_m)
-            tendons[m] = tendon_stiffness_n_per_m(p.max_isometric_force_n, ls, res.parameters[name])
-            stiff["tendon_kN_per_m"][m] = tendons[m] / 1e3
-        elif what == "passive_strain":
-            stiff["muscle_N_per_m"][m] = muscle_stiffness_n_per_m(p.max_isometric_force_n, leg.optimal_fiber_length_m(m),
-                                                                 res.parameters[name])
-    if all(m in tendons for m in COMPLIANT):
-        stiff["achilles_kN_per_m"] = achilles_stiffness_kn_per_m(tendons)
-    slack_norm = {n.split(".")[0]: v / subject.shank_length_m for n, v in res.parameters.items()
-                  if n.endswith("tendon_slack_length_m") and n in idf["determined"]}
+    # the physiological quantities of the determined parameters only (Figures 3.15–3.17's, eq 3.13/3.16)
+    rep = representative_values(leg, res.parameters, subject.shank_length_m)
+    determined = set(idf["determined"])
+    stiff: dict[str, Any] = {key: {m: v for m, v in rep[key].items() if f"{m}.{FIGURE_QUANTITIES[key]}" in determined}
+                             for key in ("tendon_kN_per_m", "muscle_N_per_m")}
+    if all(m in stiff["tendon_kN_per_m"] for m in COMPLIANT):
+        stiff["achilles_kN_per_m"] = achilles_stiffness_kn_per_m({m: 1e3 * stiff["tendon_kN_per_m"][m] for m in COMPLIANT})
+    slack_norm = {m: v for m, v in rep["slack_per_shank"].items() if f"{m}.tendon_slack_length_m" in determined}
     fd = [forward_dynamics(t, subject, res.parameters, leg=leg) for t in trials]
     model = None
     if diagnose_model:
@@ -214,27 +206,15 @@ def _parameter_figure(report: dict[str, Any]) -> Any:
         ax.set_title(title, fontsize=10)
         ax.legend(fontsize=7)
 
-    slack = [n for n in res.parameters if n.endswith("tendon_slack_length_m")]
-    bars(axes[0], [n.split(".")[0] for n in slack], [res.parameters[n] / shank for n in slack],
-         [res.generic[n] / shank for n in slack], [n in det for n in slack], "slack length / shank length",
-         "tendon slack length (Fig. 3.15)")
-    tendon = [n for n in res.parameters if n.endswith("tendon_strain")]
-
-    def k_tendon(vals: dict[str, float], n: str) -> float:
-        m = n.split(".")[0]
-        ls = vals.get(f"{m}.tendon_slack_length_m", leg.params[m].tendon_slack_length_m)
-        return tendon_stiffness_n_per_m(leg.paths[m].max_isometric_force_n, ls, vals[n]) / 1e3
-
-    bars(axes[1], [n.split(".")[0] for n in tendon], [k_tendon(res.parameters, n) for n in tendon],
-         [k_tendon(res.generic, n) for n in tendon], [n in det for n in tendon], "kN/m", "tendon stiffness (Fig. 3.16)")
-    fibre = [n for n in res.parameters if n.endswith("passive_strain")]
-
-    def k_muscle(vals: dict[str, float], n: str) -> float:
-        m = n.split(".")[0]
-        return muscle_stiffness_n_per_m(leg.paths[m].max_isometric_force_n, leg.optimal_fiber_length_m(m), vals[n])
-
-    bars(axes[2], [n.split(".")[0] for n in fibre], [k_muscle(res.parameters, n) for n in fibre],
-         [k_muscle(res.generic, n) for n in fibre], [n in det for n in fibre], "N/m", "muscle stiffness (Fig. 3.17)")
+    fitted = representative_values(leg, res.parameters, shank)
+    generic = representative_values(leg, res.generic, shank)
+    for ax, (key, unit, title) in zip(axes, (("slack_per_shank", "slack length / shank length",
+                                              "tendon slack length (Fig. 3.15)"),
+                                             ("tendon_kN_per_m", "kN/m", "tendon stiffness (Fig. 3.16)"),
+                                             ("muscle_N_per_m", "N/m", "muscle stiffness (Fig. 3.17)"))):
+        muscles = list(fitted[key])
+        bars(ax, muscles, [fitted[key][m] for m in muscles], [generic[key][m] for m in muscles],
+             [f"{m}.{FIGURE_QUANTITIES[key]}" in det for m in muscles], unit, title)
     return fig
 
 

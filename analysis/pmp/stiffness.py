@@ -13,6 +13,7 @@ gives K_P = (2/ε₀)·F_max/L_opt.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 from .curves import C1, C3, K_PE, tendon_exponent
 
@@ -35,6 +36,30 @@ def tendon_stiffness_n_per_m(max_isometric_force_n: float, tendon_slack_length_m
 def muscle_stiffness_n_per_m(max_isometric_force_n: float, optimal_fiber_length_m: float, passive_strain: float) -> float:
     """Representative passive fibre stiffness (N/m), eq 3.16: (k/(2 ε₀)) F_max / L_opt."""
     return K_PE / (2.0 * passive_strain) * max_isometric_force_n / optimal_fiber_length_m
+
+
+#: the keys of :func:`representative_values`, with the parameter each is made from
+FIGURE_QUANTITIES = {"slack_per_shank": "tendon_slack_length_m", "tendon_kN_per_m": "tendon_strain",
+                     "muscle_N_per_m": "passive_strain"}
+
+
+def representative_values(leg: Any, values: dict[str, float], shank_length_m: float) -> dict[str, dict[str, float]]:
+    """Figures 3.15–3.17's quantities per muscle from parameter values (``"muscle.what"`` → value):
+    slack length per shank length, tendon stiffness (kN/m; eq 3.13) and muscle stiffness (N/m; eq
+    3.16). ``leg`` (an :class:`analysis.pmp.muscles.LegMuscles`) gives the maximal forces, optimal
+    fibre lengths and, for a tendon whose slack length is not among ``values``, the leg's own."""
+    out: dict[str, dict[str, float]] = {k: {} for k in FIGURE_QUANTITIES}
+    for name, v in values.items():
+        m, what = name.split(".")
+        force = leg.paths[m].max_isometric_force_n
+        if what == "tendon_slack_length_m":
+            out["slack_per_shank"][m] = v / shank_length_m
+        elif what == "tendon_strain":
+            ls = values.get(f"{m}.tendon_slack_length_m", leg.params[m].tendon_slack_length_m)
+            out["tendon_kN_per_m"][m] = tendon_stiffness_n_per_m(force, ls, v) / 1e3
+        elif what == "passive_strain":
+            out["muscle_N_per_m"][m] = muscle_stiffness_n_per_m(force, leg.optimal_fiber_length_m(m), v)
+    return out
 
 
 def achilles_stiffness_kn_per_m(tendons_n_per_m: dict[str, float]) -> float:
