@@ -92,20 +92,13 @@ class DiagnosisTrial:
         segment fractions, as the estimator's) and the rig's arm; 0 for AFO and replica trials and when
         the trial does not say its torque is a dynamometer's (``rig_inertia_kgm2`` None). The baseline
         carries it, so the ``inertia`` cause names only an error beyond it."""
-        if self.rig_inertia_kgm2 is None:
+        if self.rig_inertia_kgm2 is None or self.kind not in ("knee", "ankle"):
             return 0.0
-        m = float(self.subject.get("mass_kg") or 0.0)
-        if self.kind == "knee":
-            shank = float(self.subject.get("shank_length_m") or 0.42)
-            ms, mf = 0.0465 * m, 0.0145 * m
-            limb = ms * (0.302 * shank) ** 2 + ms * (0.433 * shank) ** 2 + mf * shank**2
-        elif self.kind == "ankle":
-            foot = float(self.subject.get("foot_length_m") or 0.26)
-            mf = 0.0145 * m
-            limb = mf * (0.475 * foot) ** 2 + mf * (0.5 * foot) ** 2
-        else:
-            return 0.0
-        return limb + float(self.rig_inertia_kgm2)
+        from ..pmp.estimator import Subject  # the estimator's own limb model, not a second copy
+
+        limb = Subject(float(self.subject.get("mass_kg") or 0.0), float(self.subject.get("shank_length_m") or 0.42),
+                       float(self.subject.get("foot_length_m") or 0.26))
+        return limb.inertia_kgm2(self.kind) + float(self.rig_inertia_kgm2)
 
     def gravity_shape(self) -> np.ndarray:
         """Unit shape of a gravity error (the limb's torque per N·m of weight moment)."""
