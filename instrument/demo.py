@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import sys
 import threading
 from pathlib import Path
 from typing import Any
@@ -18,6 +19,11 @@ from drivers.simulation.lab import LabConfig, SimulatedLab
 from drivers.torque import registers
 
 from .stream import StreamResult, stream_devices
+
+
+def _progress(line: str) -> None:
+    """A progress line: on stderr, so that stdout holds only the results (two runs print the same)."""
+    print(line, file=sys.stderr, flush=True)
 
 
 def _wire_limit_hz(name: str, lab: SimulatedLab) -> float:
@@ -99,7 +105,7 @@ def lab_day(out: Path, quick: bool) -> tuple[list[dict[str, Any]], bool]:
         (store_dir / "store.sqlite").unlink()
     print(f"\nRecording a simulated lab day into {store_dir} (AADS 3 springs, knee hip 90/55/15°, "
           f"ankle knee 0/45/90°, replica leg; rooms in parallel) ...")
-    store, outcomes = record_lab_day(store_dir, quick=quick, progress=lambda line: print(line, flush=True))
+    store, outcomes = record_lab_day(store_dir, quick=quick, progress=_progress)
     rows = summary_rows(store)
     print(f"{'trial':>5} {'protocol':<8} {'status':<10} {'samples':<42} condition")
     for r in rows:
@@ -249,7 +255,7 @@ def passive_parameters(out: Path) -> tuple[dict[str, Any], bool]:
         report = analyse([trial_from_table(t) for t in tables], subject_from(tables[0].sidecar.get("subject") or {}),
                          intervals=16, diagnose_model=len(tables) >= 3, model_intervals=12,
                          model_candidates=["viscous_damping", "limb_mass_error", "torque_offset"],
-                         progress=lambda line: print(f"    {line}", flush=True))
+                         progress=lambda line: _progress(f"    {line}"))
     except AnalysisError as err:
         print(f"  PROBLEM: {err}")
         return {"error": str(err)}, False
@@ -275,7 +281,7 @@ def cohort(out: Path, subjects: int = 0, bootstrap: int = 3) -> tuple[dict[str, 
             import shutil
 
             shutil.rmtree(out / "study")
-        store = record_study(out / "study", subjects, speed_deg_s=15.0, progress=lambda m: print(m, flush=True))
+        store = record_study(out / "study", subjects, speed_deg_s=15.0, progress=_progress)
         where = out / "cohort_study"
     else:
         store = SessionStore(out / "store")
@@ -288,7 +294,7 @@ def cohort(out: Path, subjects: int = 0, bootstrap: int = 3) -> tuple[dict[str, 
         if not subjects:
             print("  (the lab day's subject resists with Riener & Edrich's moments, not the muscle model's: the "
                   "report should say the model does not fit well enough to determine anything)", flush=True)
-        show = progress_printer(every=default_every(n * (1 + bootstrap)))
+        show = progress_printer(sys.stderr, every=default_every(n * (1 + bootstrap)))
         run, files = analyze_cohort(store, where, bootstrap=bootstrap, progress=show, client=client)
         print("  " + text(run.summaries, engine_account(run, n)).replace("\n", "\n  "))
         for afo, res in run.afo_sets.items():
@@ -389,6 +395,11 @@ def operator_drill(out: Path) -> tuple[dict[str, Any], bool]:
 
         from .gui.window import PROTOCOL_NAMES, MainWindow
 
+        def relay(mode: QtCore.QtMsgType, context: QtCore.QMessageLogContext, message: str) -> None:
+            if "propagateSizeHints" not in message:  # the offscreen platform's note on every window
+                print(message, file=sys.stderr)
+
+        previous = QtCore.qInstallMessageHandler(relay)
         app = QtWidgets.QApplication.instance() or QtWidgets.QApplication([])
         gstore = SessionStore(out / "gui_store")
         window = MainWindow(gstore, SimulatedSource())
@@ -403,6 +414,7 @@ def operator_drill(out: Path) -> tuple[dict[str, Any], bool]:
         window.close()
         gstore.close()
         QtCore.QCoreApplication.processEvents()
+        QtCore.qInstallMessageHandler(previous)
         rows["gui_screens"] = sorted(p.name for p in shots.glob("*.png"))
         print(f"  GUI screens (offscreen): {', '.join(rows['gui_screens'])} in {shots}")
     except ImportError as err:  # the GUI is optional for the demo's numbers

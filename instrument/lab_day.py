@@ -20,16 +20,58 @@ SUBJECT = Subject("SIM01", "male", 1.78, 75.0, 0.92, 0.43, 0.42, 0.28, 0.26, 0.5
 
 
 def plan(quick: bool) -> list[tuple[str, TrialProtocol]]:
-    """(room, protocol) of the day; ``quick`` runs the sweeps at 15°/s instead of 5°/s and short holds."""
+    """(room, protocol) of the day in the order the store numbers them: the first trial of every room,
+    then the second of every room, and so on; ``quick`` runs the sweeps at 15°/s instead of 5°/s
+    and short holds."""
     speed = 15.0 if quick else 5.0
-    trials: list[tuple[str, TrialProtocol]] = [
-        ("aads", AadsProtocol(spring=s, operator=1 + (s % 4), trial=1, duration_s=3.0 if quick else 8.0))
-        for s in (1, 2, 3)]
+    rooms: dict[str, list[TrialProtocol]] = {
+        "aads": [AadsProtocol(spring=s, operator=1 + (s % 4), trial=1, duration_s=3.0 if quick else 8.0)
+                 for s in (1, 2, 3)]}
     # each knee sweep in its own room: the three are the day's longest trials (recorded side by side)
-    trials += [(f"knee-hip{h:g}", KneeProtocol(hip_flexion_deg=h, speed_deg_s=speed)) for h in (90.0, 55.0, 15.0)]
-    trials += [("ankle", AnkleProtocol(knee_flexion_deg=k, speed_deg_s=speed)) for k in (0.0, 45.0, 90.0)]
-    trials += [("replica", ReplicaProtocol(hold_s=0.5 if quick else 2.0))]
-    return trials
+    rooms.update({f"knee-hip{h:g}": [KneeProtocol(hip_flexion_deg=h, speed_deg_s=speed)] for h in (90.0, 55.0, 15.0)})
+    rooms["ankle"] = [AnkleProtocol(knee_flexion_deg=k, speed_deg_s=speed) for k in (0.0, 45.0, 90.0)]
+    rooms["replica"] = [ReplicaProtocol(hold_s=0.5 if quick else 2.0)]
+    rounds = max(len(v) for v in rooms.values())
+    return [(room, trials[k]) for k in range(rounds) for room, trials in rooms.items() if k < len(trials)]
+
+
+class _Turns:
+    """Store registrations in plan order while the rooms record at once: trial ``i`` registers after
+    trials ``0 … i−1`` have registered (or ended without registering), so the trial ids do not depend
+    on which room's host thread happened to be quicker."""
+
+    def __init__(self) -> None:
+        self._cond = threading.Condition()
+        self._done: set[int] = set()
+        self._next = 0
+
+    def wait(self, i: int) -> None:
+        with self._cond:
+            self._cond.wait_for(lambda: self._next >= i)
+
+    def done(self, i: int) -> None:
+        with self._cond:
+            self._done.add(i)
+            while self._next in self._done:
+                self._next += 1
+            self._cond.notify_all()
+
+
+class _InTurn:
+    """The store as one trial of the day sees it: ``begin_trial`` waits for the trial's turn."""
+
+    def __init__(self, store: SessionStore, turns: _Turns, index: int) -> None:
+        self._store, self._turns, self._index = store, turns, index
+
+    def begin_trial(self, *args: Any, **kwargs: Any) -> Any:
+        self._turns.wait(self._index)
+        try:
+            return self._store.begin_trial(*args, **kwargs)
+        finally:
+            self._turns.done(self._index)
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._store, name)
 
 
 def record_lab_day(store_dir: Path, quick: bool = True,
@@ -47,6 +89,7 @@ def record_lab_day(store_dir: Path, quick: bool = True,
     errors: list[BaseException] = []
     lock = threading.Lock()
     done = [0]
+    turns = _Turns()
 
     def room(name: str) -> None:
         for i, (r, proto) in enumerate(trials):
@@ -54,8 +97,9 @@ def record_lab_day(store_dir: Path, quick: bool = True,
                 continue
             try:
                 with simulated_devices(proto, lab_config_for(proto, seed=i)) as (lab, devices):
-                    outcomes[i] = record_trial(store, sessions[r], proto, devices, operator=f"{r}-operator",
-                                               trial_number=1, extra_metadata=simulation_metadata(lab))
+                    outcomes[i] = record_trial(_InTurn(store, turns, i), sessions[r], proto,  # type: ignore[arg-type]
+                                               devices, operator=f"{r}-operator", trial_number=1,
+                                               extra_metadata=simulation_metadata(lab))
                 if progress is not None:
                     with lock:
                         done[0] += 1
@@ -64,6 +108,8 @@ def record_lab_day(store_dir: Path, quick: bool = True,
                                  f"{proto.condition_text()}, {o.status if o else '?'}, {o.duration_s if o else 0:.1f} s)")
             except BaseException as err:  # noqa: BLE001 - reported after the other rooms finish
                 errors.append(err)
+            finally:
+                turns.done(i)  # a trial that failed before registering does not hold the others up
 
     threads = [threading.Thread(target=room, args=(r,), name=f"room-{r}") for r in sessions]
     for t in threads:

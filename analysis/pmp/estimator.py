@@ -200,6 +200,10 @@ def _muscles_moment(leg: LegMuscles, trial: PmpTrial, q: Any, par: dict[str, Any
     return moment, residuals, lts
 
 
+#: largest calf-tendon equilibrium residual (normalised force) accepted as solved
+EQUILIBRIUM_TOLERANCE = 1e-8
+
+
 def _eliminate_tendons(moment: Any, residuals: list[Any], lts: list[Any], args: list[Any]) -> Any:
     """The moment with the calf tendon lengths solved from their equilibrium (Newton, implicit function)."""
     import casadi as ca
@@ -208,12 +212,14 @@ def _eliminate_tendons(moment: Any, residuals: list[Any], lts: list[Any], args: 
         return moment
     z = ca.vertcat(*lts)
     # a state outside the calf equilibrium's domain gives NaN, which the caller reports (a forward
-    # simulation that leaves it is NaN, not an exception): CasADi's per-evaluation warnings about it
-    # would print thousands of lines to the operator
-    solve = ca.rootfinder("solve", "newton", ca.Function("g", [z, *args], [ca.vertcat(*residuals)]),
-                          {"show_eval_warnings": False})
+    # simulation that leaves it is NaN, not an exception). Newton does not raise on failure (CasADi
+    # would print every enclosing function's inputs, pages of numbers, to stderr) and does not warn per
+    # evaluation (thousands of lines); an unconverged solution is turned into NaN here instead
+    g = ca.Function("g", [z, *args], [ca.vertcat(*residuals)])
+    solve = ca.rootfinder("solve", "newton", g, {"show_eval_warnings": False, "error_on_fail": False})
     zsol = solve(ca.DM.ones(len(lts)) * 1.01, *args)
-    return ca.Function("m", [z, *args], [moment])(zsol, *args)
+    solved = ca.norm_inf(g(zsol, *args)) < EQUILIBRIUM_TOLERANCE
+    return ca.if_else(solved, ca.Function("m", [z, *args], [moment])(zsol, *args), np.nan)
 
 
 def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None = None, intervals: int = 40,

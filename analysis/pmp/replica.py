@@ -473,10 +473,17 @@ def text(result: ReplicaResult, truth: dict[str, float] | None = None) -> str:
             "? {:.0f}–{:.0f}".format(*result.alternatives[kn])
         cl = "[{:.1f}, {:.1f}]".format(*(1e3 * np.array(result.ci95[ln]))) if ln in result.ci95 else \
             "? {:.1f}–{:.1f}".format(*(1e3 * np.array(result.alternatives[ln])))
-        row = (f"{name:8s} {result.parameters[kn]:8.0f} ± {result.standard_error[kn]:5.0f} {ck:>17s} "
-               f"{1e3 * result.parameters[ln]:8.1f} ± {1e3 * result.standard_error[ln]:4.1f} {cl:>15s}")
-        if err:
-            row += f"  {err[kn]:+5.1f}% / {err[ln]:+5.1f}%"
+        if kn in result.ci95 and ln in result.ci95:
+            row = (f"{name:8s} {result.parameters[kn]:8.0f} ± {result.standard_error[kn]:5.0f} {ck:>17s} "
+                   f"{1e3 * result.parameters[ln]:8.1f} ± {1e3 * result.standard_error[ln]:4.1f} {cl:>15s}")
+            if err:
+                row += f"  {err[kn]:+5.1f}% / {err[ln]:+5.1f}%"
+        else:  # which of the equally good fits the solver ended in says nothing: no point value, no error
+            row = f"{name:8s} {'not determined':>16s} {ck:>17s} {'':>16s} {cl:>15s}"
+            if truth and kn in truth and ln in truth:
+                inside = all(lo - 1e-9 * abs(lo) <= truth[n] <= hi + 1e-9 * abs(hi)
+                             for n in (kn, ln) for lo, hi in [sorted(result.alternatives.get(n, result.ci95.get(n, (np.nan, np.nan))))])
+                row += "  truth " + ("inside" if inside else "outside") + " the spread"
         lines.append(row)
     v = result.verification
     lines.append(f"sensor zero {result.sensor_offset_nm:+.3f} ± {result.sensor_offset_se_nm:.3f} N·m")

@@ -17,11 +17,11 @@ def demo_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, str]:
     import io
 
     out = tmp_path_factory.mktemp("demo")
-    text = io.StringIO()
-    with contextlib.redirect_stdout(text):
+    text, progress = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(text), contextlib.redirect_stderr(progress):
         code = main(["demo", "--seconds", "1.5", "--out", str(out)])
-    assert code == 0, text.getvalue()[-3000:]
-    return out, text.getvalue()
+    assert code == 0, text.getvalue()[-3000:] + progress.getvalue()[-2000:]
+    return out, text.getvalue() + progress.getvalue()
 
 
 @pytest.mark.timeout(900)
@@ -109,7 +109,7 @@ def test_the_demo_runs_the_cohort_and_remembers_every_analysis(demo_run: tuple[P
     assert cohort["engine"]["solves"] == 4 and cohort["engine"]["failed"] == []
     assert cohort["rerun_read_back"] == 4  # the re-run solved nothing: every result came from the store
     assert (out / "cohort" / "cohort_parameters.png").exists() and (out / "cohort" / "table_3_3.csv").exists()
-    assert "lab day: 10/10 trials recorded" in printed and "IPOPT iteration" in printed
+    assert "lab day: 10/10 trials recorded" in printed and "IPOPT iteration" in printed  # progress, on stderr
     with SessionStore(out / "store") as store:
         kinds = {r["kind"] for r in store.results()}
         knee = [t for t in store.trials() if t.protocol == "knee"][0]
