@@ -66,6 +66,33 @@ def model_facts(model_path: str) -> dict[str, Any]:
     return {"shank_length_m": shank, "thigh_length_m": thigh, "muscles": muscles}
 
 
+def path_geometry(request: dict[str, Any]) -> dict[str, Any]:
+    """Path lengths (``getLength``) and moment arms (``computeMomentArm`` about hip, knee and ankle), m,
+    of the muscles in ``request["muscles"]`` (default all) at ``request["poses"]``: no forces."""
+    import opensim as osim
+
+    osim.Logger.setLevelString("error")
+    model = osim.Model(request["model"])
+    osim.DeGrooteFregly2016Muscle.replaceMuscles(model)
+    state = model.initSystem()
+    coords = {k: model.getCoordinateSet().get(v) for k, v in COORDINATES.items()}
+    names = list(request.get("muscles") or MUSCLES)
+    muscles = {n: model.getMuscles().get(f"{n}_r") for n in names}
+    joints = request.get("joints") or {n: list(COORDINATES) for n in names}
+    lengths: dict[str, list[float]] = {n: [] for n in names}
+    arms: dict[str, dict[str, list[float]]] = {n: {k: [] for k in joints[n]} for n in names}
+    for pose in request["poses"]:
+        for k, c in coords.items():
+            c.setValue(state, float(pose[k]), False)
+        model.assemble(state)
+        model.realizePosition(state)
+        for n, m in muscles.items():
+            lengths[n].append(m.getLength(state))
+            for k in joints[n]:
+                arms[n][k].append(m.computeMomentArm(state, coords[k]))
+    return {"path_length_m": lengths, "moment_arm_m": arms}
+
+
 def passive_moments(request: dict[str, Any]) -> dict[str, Any]:
     """Answer one request (see the module docstring)."""
     import opensim as osim
@@ -159,6 +186,8 @@ def main() -> int:
     request = json.load(sys.stdin)
     if request.get("what") == "facts":
         answer = model_facts(request["model"])
+    elif request.get("what") == "paths":
+        answer = path_geometry(request)
     else:
         answer = passive_moments(request)
     json.dump(answer, sys.stdout)

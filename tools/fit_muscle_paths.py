@@ -1,8 +1,14 @@
-"""Fit muscle-tendon lengths of the leg muscles as polynomials of hip, knee and ankle angle, from any .osim.
+"""Tabulate and fit muscle-tendon lengths and moment arms of the leg muscles over hip, knee and ankle angle, from any .osim.
 
     python tools/fit_muscle_paths.py MODEL.osim [-o analysis/pmp/data/rajagopal2016_paths.json]
 
-Needs OpenSim (``pip install 'afo-gait-instrument[opensim]'``). For each muscle, the coordinates
+Needs OpenSim (``pip install 'afo-gait-instrument[opensim]'``), run in a child interpreter
+(:mod:`benchmarks.opensim_passive`; its bundled CasADi cannot share a process with the
+``casadi`` wheel this script checks the splines with). The model uses, per muscle, OpenSim's
+lengths and ``computeMomentArm`` tabulated on a 1° grid (2.5° over the hip) of the coordinates
+the muscle crosses, interpolated by cubic B-splines (:class:`analysis.pmp.geometry.SplineGrid`),
+checked between the nodes against OpenSim; the polynomials below are kept beside them as the
+smooth fallback. For each muscle, the coordinates
 it crosses are found from its moment arms; its length is sampled on a grid over the seated
 ranges (hip −10…100°, knee 0…94° flexion — below the kink the patella mechanism puts in the
 moment arms at 95.5°, which a polynomial would ring around — ankle −40…30° dorsiflexion) and
@@ -59,34 +65,51 @@ def derivative_design(q: np.ndarray, exps: list[tuple[int, ...]], j: int) -> np.
     return np.column_stack(cols)
 
 
-def segment_lengths(model: object, state: object) -> dict[str, float]:
-    """The model's thigh (hip to knee centre) and shank (knee to ankle centre) lengths (m)."""
-    joints = model.getJointSet()  # type: ignore[attr-defined]
-    model.realizePosition(state)  # type: ignore[attr-defined]
+#: the B-spline grids (deg): lo, hi, nodes; 1° over the knee and ankle (the patella-coupled vasti and the
+#: gastrocnemius wrap), 2.5° over the hip
+SPLINE_AXES = {"hip": (-10.0, 100.0, 45), "knee": (0.0, 94.0, 95), "ankle": (-40.0, 30.0, 71)}
 
-    def at(frame: object) -> np.ndarray:
-        p = frame.getPositionInGround(state)  # type: ignore[attr-defined]
-        return np.array([p.get(i) for i in range(3)])
 
-    knee, ankle, hip = joints.get("walker_knee_r"), joints.get("ankle_r"), joints.get("hip_r")
-    return {"shank_length_m": float(np.linalg.norm(at(knee.getChildFrame()) - at(ankle.getParentFrame()))),
-            "thigh_length_m": float(np.linalg.norm(at(hip.getChildFrame()) - at(knee.getParentFrame())))}
+def _poses(points_rad: np.ndarray, joints: list[str]) -> list[dict[str, float]]:
+    """Poses for OpenSim: ``joints`` from ``points_rad`` columns, the other coordinates at 0."""
+    out = []
+    for p in points_rad:
+        pose = {k: 0.0 for k in COORDS}
+        pose.update({j: float(v) for j, v in zip(joints, p)})
+        out.append(pose)
+    return out
+
+
+def _spline_grid(joints: list[str], offset: float) -> np.ndarray:
+    """Grid points (rad) over ``joints``, the first joint varying fastest (CasADi's order); ``offset``
+    shifts every axis by that fraction of its step (0.5: the points between the nodes)."""
+    axes = []
+    for j in joints:
+        lo, hi, n = SPLINE_AXES[j]
+        pts = np.linspace(lo, hi, n)
+        if offset:
+            pts = (pts[:-1] + offset * (pts[1] - pts[0]))
+        axes.append(np.deg2rad(pts))
+    mesh = np.meshgrid(*axes, indexing="ij")
+    return np.column_stack([g.ravel(order="F") for g in mesh])
 
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("model", type=Path)
     ap.add_argument("-o", "--output", type=Path, default=Path("analysis/pmp/data/rajagopal2016_paths.json"))
-    ap.add_argument("--degree", type=int, default=5)
+    ap.add_argument("--degree", type=int, default=8)
     args = ap.parse_args(argv)
-    import opensim as osim
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+    from analysis.pmp.geometry import SplineGrid
+    from benchmarks.opensim_truth import opensim  # OpenSim in a child interpreter (its CasADi ≠ the wheel's)
 
-    osim.Logger.setLevelString("error")
-    model = osim.Model(str(args.model))
-    osim.DeGrooteFregly2016Muscle.replaceMuscles(model)
-    state = model.initSystem()
-    cs = model.getCoordinateSet()
-    coords = {k: cs.get(v[0]) for k, v in COORDS.items()}
+    model = str(args.model.resolve())
+    facts = opensim({"what": "facts", "model": model})
+
+    def sample(points: np.ndarray, joints: list[str], muscles: list[str]) -> dict:
+        return opensim({"what": "paths", "model": model, "poses": _poses(points, joints), "muscles": muscles,
+                        "joints": {m: list(COORDS) for m in muscles}}, timeout_s=3600.0)
 
     def grid(offset: float) -> np.ndarray:
         axes = []
@@ -96,65 +119,75 @@ def main(argv: list[str] | None = None) -> int:
             axes.append(pts[pts <= hi + 1e-9])
         return np.deg2rad(np.array(list(itertools.product(*axes))))
 
-    def sample(points: np.ndarray) -> tuple[dict, dict]:
-        lengths = {m: [] for m in MUSCLES}
-        arms = {m: {k: [] for k in COORDS} for m in MUSCLES}
-        for p in points:
-            for (k, c), v in zip(coords.items(), p):
-                c.setValue(state, float(v), False)
-            model.assemble(state)
-            model.realizePosition(state)
-            for m in MUSCLES:
-                mus = model.getMuscles().get(f"{m}_r")
-                lengths[m].append(mus.getLength(state))
-                for k, c in coords.items():
-                    arms[m][k].append(mus.computeMomentArm(state, c))
-        return ({m: np.array(v) for m, v in lengths.items()},
-                {m: {k: np.array(v) for k, v in d.items()} for m, d in arms.items()})
-
-    train_q = grid(0.0)
-    test_q = grid(0.5)
-    train_l, train_r = sample(train_q)
-    test_l, test_r = sample(test_q)
+    train_q, test_q = grid(0.0), grid(0.5)
+    train, test = sample(train_q, list(COORDS), MUSCLES), sample(test_q, list(COORDS), MUSCLES)
     out = {"source": args.model.name, "degree": args.degree, "coordinates": {k: v[0] for k, v in COORDS.items()},
            "ranges_deg": {k: [v[1], v[2]] for k, v in COORDS.items()}, "angles": "radians; knee flexion and ankle "
            "dorsiflexion positive, as the .osim", "script": "tools/fit_muscle_paths.py",
-           "segments": segment_lengths(model, state), "muscles": {}}
+           "spline_axes_deg": {k: list(v) for k, v in SPLINE_AXES.items()},
+           "segments": {"shank_length_m": facts["shank_length_m"], "thigh_length_m": facts["thigh_length_m"]},
+           "muscles": {}}
+    spans_of = {}
     for m in MUSCLES:
-        spans = [k for k in COORDS if np.max(np.abs(train_r[m][k])) > 1e-3]  # a moment arm over 1 mm somewhere
+        arms = {k: np.array(train["moment_arm_m"][m][k]) for k in COORDS}
+        spans_of[m] = [k for k in COORDS if np.max(np.abs(arms[k])) > 1e-3]  # a moment arm over 1 mm somewhere
+    groups: dict[tuple[str, ...], list[str]] = {}
+    for m in MUSCLES:
+        groups.setdefault(tuple(spans_of[m]), []).append(m)
+    dense, between = {}, {}
+    for joints, members in groups.items():
+        print(f"sampling OpenSim on the {'×'.join(joints)} grid for {', '.join(members)} ...", flush=True)
+        dense[joints] = (_spline_grid(list(joints), 0.0), sample(_spline_grid(list(joints), 0.0), list(joints), members))
+        between[joints] = (_spline_grid(list(joints), 0.5), sample(_spline_grid(list(joints), 0.5), list(joints), members))
+    for m in MUSCLES:
+        spans = spans_of[m]
         idx = [list(COORDS).index(k) for k in spans]
+        train_l, test_l = np.array(train["path_length_m"][m]), np.array(test["path_length_m"][m])
         exps = exponents(len(spans), args.degree if len(spans) > 1 else SINGLE_JOINT_DEGREE)
         basis = design(train_q[:, idx], exps)
-        coef, *_ = np.linalg.lstsq(basis, train_l[m], rcond=None)
+        coef, *_ = np.linalg.lstsq(basis, train_l, rcond=None)
         # OpenSim's moment arm (computeMomentArm) is not −∂L/∂q of its own getLength where a
         # coupled or wrapped path kinks it: each is fitted on its own, as OpenSim uses each
-        arm_coef = {k: np.linalg.lstsq(basis, train_r[m][k], rcond=None)[0] for k in spans}
-        pred = design(test_q[:, idx], exps) @ coef
-        err_l = (pred - test_l[m]) * 1e3
+        arm_coef = {k: np.linalg.lstsq(basis, np.array(train["moment_arm_m"][m][k]), rcond=None)[0] for k in spans}
         test_basis = design(test_q[:, idx], exps)
-        err_r = np.concatenate([(test_basis @ arm_coef[k] - test_r[m][k]) * 1e3 for k in spans])
-        err_dl = np.concatenate([(-derivative_design(test_q[:, idx], exps, j) @ coef - test_r[m][k]) * 1e3
-                                 for j, k in enumerate(spans)])
-        mus = osim.DeGrooteFregly2016Muscle.safeDownCast(model.getMuscles().get(f"{m}_r"))
+        poly_err_r = np.concatenate([(test_basis @ arm_coef[k] - np.array(test["moment_arm_m"][m][k])) * 1e3
+                                     for k in spans])
+        err_dl = np.concatenate([(-derivative_design(test_q[:, idx], exps, j) @ coef
+                                  - np.array(test["moment_arm_m"][m][k])) * 1e3 for j, k in enumerate(spans)])
+        # the B-spline grid: OpenSim's values at the nodes, checked between the nodes
+        key = tuple(spans)
+        nodes, at_nodes = dense[key]
+        mid, at_mid = between[key]
+        values = {"length": np.round(at_nodes["path_length_m"][m], 10).tolist(),
+                  **{k: np.round(at_nodes["moment_arm_m"][m][k], 10).tolist() for k in spans}}
+        spline = SplineGrid(key, {j: SPLINE_AXES[j] for j in spans}, values)
+        cols = [mid[:, i] for i in range(len(spans))]
+        err_l = (spline.evaluate("length", cols) - np.array(at_mid["path_length_m"][m])) * 1e3
+        err_r = np.concatenate([(spline.evaluate(k, cols) - np.array(at_mid["moment_arm_m"][m][k])) * 1e3
+                                for k in spans])
+        g = facts["muscles"][m]
         out["muscles"][m] = {
             "coordinates": spans, "exponents": [list(e) for e in exps], "coefficients_m": coef.tolist(),
             "moment_arm_coefficients_m": {k: arm_coef[k].tolist() for k in spans},
-            "max_isometric_force_n": mus.getMaxIsometricForce(), "optimal_fiber_length_m": mus.getOptimalFiberLength(),
-            "tendon_slack_length_m": mus.getTendonSlackLength(),
-            "pennation_at_optimal_rad": mus.getPennationAngleAtOptimalFiberLength(),
-            "passive_strain": mus.get_passive_fiber_strain_at_one_norm_force(),
-            "tendon_strain": mus.get_tendon_strain_at_one_norm_force(),
-            "min_length_m": float(min(train_l[m].min(), test_l[m].min())),
+            "spline": {"axes_deg": {j: list(SPLINE_AXES[j]) for j in spans}, "length_m": values["length"],
+                       "moment_arm_m": {k: values[k] for k in spans}},
+            "max_isometric_force_n": g["max_isometric_force_n"], "optimal_fiber_length_m": g["optimal_fiber_length_m"],
+            "tendon_slack_length_m": g["tendon_slack_length_m"],
+            "pennation_at_optimal_rad": g["pennation_at_optimal_rad"],
+            "passive_strain": g["passive_strain"], "tendon_strain": g["tendon_strain"],
+            "min_length_m": float(min(train_l.min(), test_l.min(), np.min(at_nodes["path_length_m"][m]))),
             "fit": {"length_rms_mm": float(np.sqrt(np.mean(err_l**2))), "length_max_mm": float(np.max(np.abs(err_l))),
                     "moment_arm_rms_mm": float(np.sqrt(np.mean(err_r**2))),
                     "moment_arm_max_mm": float(np.max(np.abs(err_r))),
+                    "polynomial_moment_arm_rms_mm": float(np.sqrt(np.mean(poly_err_r**2))),
                     "minus_dl_dq_vs_moment_arm_max_mm": float(np.max(np.abs(err_dl)))}}
         f = out["muscles"][m]["fit"]
-        print(f"{m:<8} {'+'.join(spans):<11} length RMS {f['length_rms_mm']:.3f} max {f['length_max_mm']:.3f} mm; "
-              f"moment arm RMS {f['moment_arm_rms_mm']:.3f} max {f['moment_arm_max_mm']:.3f} mm "
-              f"(−∂L/∂q off by up to {f['minus_dl_dq_vs_moment_arm_max_mm']:.1f} mm)")
+        print(f"{m:<8} {'+'.join(spans):<11} B-spline length RMS {f['length_rms_mm']:.4f} max {f['length_max_mm']:.4f} mm; "
+              f"moment arm RMS {f['moment_arm_rms_mm']:.4f} max {f['moment_arm_max_mm']:.4f} mm "
+              f"(polynomial {f['polynomial_moment_arm_rms_mm']:.3f}; −∂L/∂q off by up to "
+              f"{f['minus_dl_dq_vs_moment_arm_max_mm']:.1f} mm)")
     args.output.parent.mkdir(parents=True, exist_ok=True)
-    args.output.write_text(json.dumps(out, indent=1))
+    args.output.write_text(json.dumps(out, separators=(",", ":")))
     print(f"wrote {args.output}")
     return 0
 

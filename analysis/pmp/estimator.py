@@ -155,15 +155,45 @@ class PmpResult:
         return self.solve_time_s
 
 
-def _muscle_moment(leg: LegMuscles, m: str, joint: str, q: dict[str, Any], ls: Any, strain: Any, lt_norm: Any) -> tuple[Any, Any]:
-    """(moment toward positive angle, equilibrium residual or None) of one muscle in CasADi."""
+#: order of the Taylor expansion of path length and moment arm about the measured angle inside the fit
+PATH_TAYLOR_ORDER = 3
+
+
+def _path_taylor(leg: LegMuscles, trial: "PmpTrial", anchors_rad: np.ndarray) -> tuple[list[str], np.ndarray]:
+    """Taylor coefficients (0 … :data:`PATH_TAYLOR_ORDER`) of the length and the moment arm about
+    ``trial``'s joint of every muscle crossing it, at ``anchors_rad`` (the measured angles of the
+    collocation points; the other joints at the trial's fixed angles): rows muscle by muscle, the
+    length's coefficients then the moment arm's; columns the anchors. The fit evaluates the paths as
+    these polynomials in (q − anchor): exact to < 1e-8 m within 3° of the measured angle, and
+    cheap for IPOPT, where calling the B-spline tables at every collocation point cost 4× the
+    solve time."""
+    import casadi as ca
+
+    names = [m for m in MUSCLES if trial.joint in leg.paths[m].joints]
+    x = ca.SX.sym("x")
+    angles = {"hip": trial.fixed_rad.get("hip", 0.0), "knee": trial.fixed_rad.get("knee", 0.0),
+              "ankle": trial.fixed_rad.get("ankle", 0.0), trial.joint: x}
+    rows = []
+    for m in names:
+        for expr in (leg.path_length_m(m, **angles), leg.moment_arm_m(m, trial.joint, **angles)):
+            d = expr
+            for k in range(PATH_TAYLOR_ORDER + 1):
+                rows.append(d / float(np.prod(range(1, k + 1))))
+                d = ca.jacobian(d, x)
+    f = ca.Function("taylor", [x], [ca.vertcat(*rows)]).map(anchors_rad.size)
+    return names, np.asarray(f(anchors_rad.reshape(1, -1)))
+
+
+def _muscle_moment(leg: LegMuscles, m: str, joint: str, q: dict[str, Any], ls: Any, strain: Any, lt_norm: Any,
+                   path: tuple[Any, Any] | None = None) -> tuple[Any, Any]:
+    """(moment toward positive angle, equilibrium residual or None) of one muscle in CasADi;
+    ``path`` (length, moment arm) replaces the leg's path evaluated at ``q``."""
     import casadi as ca
 
     p = leg.paths[m]
     lo = leg.optimal_fiber_length_m(m)
     h = lo * np.sin(p.pennation_at_optimal_rad)
-    lmt = leg.path_length_m(m, **q)
-    r = leg.moment_arm_m(m, joint, **q)
+    lmt, r = path if path is not None else (leg.path_length_m(m, **q), leg.moment_arm_m(m, joint, **q))
     if m in COMPLIANT:
         lt = lt_norm * ls
         along = lmt - lt
@@ -175,11 +205,23 @@ def _muscle_moment(leg: LegMuscles, m: str, joint: str, q: dict[str, Any], ls: A
     return r * p.max_isometric_force_n * passive_fiber_force(lm / lo, strain) * along / lm, None
 
 
-def _muscles_moment(leg: LegMuscles, trial: PmpTrial, q: Any, par: dict[str, Any]) -> tuple[Any, list[Any], list[Any]]:
+def _muscles_moment(leg: LegMuscles, trial: PmpTrial, q: Any, par: dict[str, Any],
+                    local: tuple[Any, Any] | None = None) -> tuple[Any, list[Any], list[Any]]:
     """Passive moment (CasADi) of the muscles crossing ``trial``'s joint at angle ``q``, the calf
     equilibrium residuals and their tendon-length symbols; ``par`` (numbers or symbols) overrides
-    the leg's own parameters by name."""
+    the leg's own parameters by name. ``local`` = (anchor angle, Taylor coefficients as
+    :func:`_path_taylor` lays them out) evaluates the paths as polynomials about the anchor."""
     import casadi as ca
+
+    paths: dict[str, tuple[Any, Any]] = {}
+    if local is not None:
+        anchor, coef = local
+        delta = q - anchor
+        n = PATH_TAYLOR_ORDER + 1
+        names = [m for m in MUSCLES if trial.joint in leg.paths[m].joints]
+        for i, m in enumerate(names):
+            block = [coef[(2 * i + w) * n:(2 * i + w + 1) * n] for w in (0, 1)]
+            paths[m] = tuple(sum(b[k] * delta**k for k in range(n)) for b in block)  # type: ignore[assignment]
 
     angles = {"hip": trial.fixed_rad.get("hip", 0.0), "knee": trial.fixed_rad.get("knee", 0.0),
               "ankle": trial.fixed_rad.get("ankle", 0.0), trial.joint: q}
@@ -192,7 +234,7 @@ def _muscles_moment(leg: LegMuscles, trial: PmpTrial, q: Any, par: dict[str, Any
         strain = par.get(f"{m}.tendon_strain", base.tendon_strain) if m in COMPLIANT else \
             par.get(f"{m}.passive_strain", base.passive_strain)
         lt = ca.SX.sym(f"lt_{m}") if m in COMPLIANT else None
-        mom, res = _muscle_moment(leg, m, trial.joint, angles, ls, strain, lt)
+        mom, res = _muscle_moment(leg, m, trial.joint, angles, ls, strain, lt, paths.get(m))
         moment = moment + mom
         if res is not None:
             residuals.append(res)
@@ -249,7 +291,8 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
         raise InputError("no trials to fit")
     leg = leg or LegMuscles()
     pset = parameters or free_parameters(leg, trials)
-    passive = moment or (lambda trial, q, par: _muscles_moment(leg, trial, q, par))
+    own_leg = moment is None  # the leg's muscles (their paths are expanded about the measured angles)
+    passive = moment or (lambda trial, q, par, local=None: _muscles_moment(leg, trial, q, par, local))
     n_par = len(pset.names)
     opti = ca.Opti()
     p_scaled = opti.variable(n_par)  # parameter = generic · p_scaled
@@ -291,7 +334,15 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
         par_s = {n: pset.generic[i] * ps[i] for i, n in enumerate(pset.names)}
         ext_par = [float(extension.typical[i]) * es[i] for i in range(n_ext)]
         q_joint = extension.joint_angle(t, qs, ext_par) if n_ext else qs
-        muscles, residuals, calf = passive(t, q_joint, par_s)
+        local_in: list[Any] = []
+        if own_leg:  # the leg's paths as Taylor polynomials about the measured angle of each point
+            _, coef = _path_taylor(leg, t, qm)
+            coef = np.vstack([qm.reshape(1, -1), coef])
+            geo = ca.SX.sym("geo", coef.shape[0])
+            muscles, residuals, calf = passive(t, q_joint, par_s, (geo[0], geo[1:]))
+            local_in = [geo]
+        else:
+            muscles, residuals, calf = passive(t, q_joint, par_s)
         if n_ext and extension.angle is not None:  # the muscles' moment reaches the arm by virtual work
             muscles = muscles * ca.jacobian(q_joint, qs)
         gravity = subject.gravity_moment_nm(t.joint, qs, t.fixed_rad, ca.cos)
@@ -303,9 +354,10 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
         if calf:
             opti.set_initial(lt, 1.01)
             opti.subject_to(opti.bounded(0.99, lt, 1.2))
-        point = ca.Function("point", [qs, vs, us, ps, es, lts], [(us * u_scale + moment) / inertia, ca.vertcat(*residuals)])
+        point = ca.Function("point", [qs, vs, us, ps, es, lts, *local_in],
+                            [(us * u_scale + moment) / inertia, ca.vertcat(*residuals)])
         acc_row, res_rows = point.map(n_pts)(q.T, v.T, u.T, ca.repmat(p_scaled, 1, n_pts), ca.repmat(e_scaled, 1, n_pts),
-                                              lt if calf else ca.DM.zeros(0, n_pts))
+                                              lt if calf else ca.DM.zeros(0, n_pts), *([coef] if local_in else []))
         if calf:
             opti.subject_to(ca.vec(res_rows) == 0)
         acc = [acc_row[k] for k in range(n_pts)]

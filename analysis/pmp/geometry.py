@@ -1,14 +1,16 @@
-"""Muscle-tendon lengths and moment arms of the eleven leg muscles as smooth polynomials of hip, knee and ankle angle.
+"""Muscle-tendon lengths and moment arms of the eleven leg muscles over hip, knee and ankle angle.
 
-The coefficients come from ``tools/fit_muscle_paths.py`` run on Rajagopal et al. (2016), stored
-in ``data/rajagopal2016_paths.json`` with the muscles' generic parameters, the model's segment
-lengths and the fit's errors against OpenSim's own path geometry. Angles in radians (hip
-flexion, knee flexion, ankle dorsiflexion positive); lengths in m. A moment arm (m, positive
-when the muscle pulls toward positive angle) is OpenSim's ``computeMomentArm``, fitted by its
-own polynomial: where the coupled knee or a wrapping surface kinks the path it is not −∂L/∂q of
-the length (the gastrocnemius near full extension: 17 mm apart), and OpenSim's joint moment is
-tendon force × that moment arm. Paths fitted before moment arms had their own polynomials fall
-back to r = −∂L/∂q. Every function accepts numpy arrays or CasADi symbols.
+``tools/fit_muscle_paths.py`` asks OpenSim (Rajagopal et al. 2016) for each muscle's length
+(``getLength``) and moment arms (``computeMomentArm``) on a 1° grid (2.5° over the hip) of the
+joints it crosses; ``data/rajagopal2016_paths.json`` holds those tables (interpolated here by cubic
+B-splines, :class:`SplineGrid`), a smooth polynomial fit kept as the fallback, the muscles' generic
+parameters, the model's segment lengths and the errors against OpenSim between the grid nodes.
+Angles in radians (hip flexion, knee flexion, ankle dorsiflexion positive); lengths in m. A
+moment arm (m, positive when the muscle pulls toward positive angle) is OpenSim's
+``computeMomentArm``, tabulated on its own: where the coupled knee or a wrapping surface kinks the
+path it is not −∂L/∂q of the length (the gastrocnemius near full extension: 17 mm apart), and
+OpenSim's joint moment is tendon force × that moment arm. Every function accepts numpy arrays or
+CasADi symbols.
 """
 
 from __future__ import annotations
@@ -18,6 +20,8 @@ from dataclasses import dataclass
 from functools import lru_cache
 from importlib import resources
 from typing import Any
+
+import numpy as np
 
 MUSCLES = ("bflh", "bfsh", "gaslat", "gasmed", "soleus", "semimem", "semiten", "vasint", "vaslat", "vasmed", "recfem")
 JOINTS = ("hip", "knee", "ankle")
@@ -40,6 +44,9 @@ class MusclePath:
     moment_arm_coefficients_m: dict[str, tuple[float, ...]] | None = None
     passive_strain: float = 0.6
     tendon_strain: float = 0.049
+    #: OpenSim's lengths and moment arms on a fine grid of the joints' angles, interpolated by cubic
+    #: B-splines (see :class:`SplineGrid`); when present they replace the polynomials
+    spline: "SplineGrid | None" = None
 
     def _args(self, angles: dict[str, Any]) -> list[Any]:
         return [angles[j] for j in self.joints]
@@ -56,20 +63,26 @@ class MusclePath:
 
     def length_m(self, **angles_rad: Any) -> Any:
         """Muscle-tendon length (m) at ``hip=…, knee=…, ankle=…`` (rad; joints it does not cross are ignored)."""
+        if self.spline is not None:
+            return self.spline.evaluate("length", self._args(angles_rad))
         return self._polynomial(self.coefficients_m, self._args(angles_rad))
 
     def moment_arm_m(self, joint: str, **angles_rad: Any) -> Any:
         """OpenSim's moment arm about ``joint`` (m); zero for a joint the muscle does not cross."""
         if joint not in self.joints:
             return 0.0 * angles_rad[joint]
+        if self.spline is not None:
+            return self.spline.evaluate(joint, self._args(angles_rad))
         if self.moment_arm_coefficients_m is not None:
             return self._polynomial(self.moment_arm_coefficients_m[joint], self._args(angles_rad))
         return self.length_derivative_moment_arm_m(joint, **angles_rad)
 
     def length_derivative_moment_arm_m(self, joint: str, **angles_rad: Any) -> Any:
-        """r = −∂L/∂q of the length polynomial (m): the conservative moment arm."""
+        """r = −∂L/∂q of the length (m): the conservative moment arm."""
         if joint not in self.joints:
             return 0.0 * angles_rad[joint]
+        if self.spline is not None:
+            return -self.spline.evaluate("length", self._args(angles_rad), slope_of=joint)
         j = self.joints.index(joint)
         q = self._args(angles_rad)
         total = 0.0
@@ -85,6 +98,70 @@ class MusclePath:
         return -total
 
 
+class SplineGrid:
+    """Values sampled by OpenSim on a regular grid of the muscle's joint angles, as CasADi cubic
+    B-spline interpolants (``casadi.interpolant(…, "bspline", …)``): the path length and a moment
+    arm per joint. A grid of 1° (2.5° for the hip) follows the patella-coupled knee and the
+    gastrocnemius wrap, which a global polynomial smooths over.
+
+    Evaluates CasADi symbols (SX or MX: the estimator's collocation) and NumPy arrays or floats
+    alike, through the same interpolant.
+    """
+
+    def __init__(self, joints: tuple[str, ...], axes_deg: dict[str, tuple[float, float, int]],
+                 values: dict[str, list[float]]) -> None:
+        self.joints = joints
+        self.axes_rad = [np.deg2rad(np.linspace(*axes_deg[j])) for j in joints]
+        self.values = {k: np.asarray(v, dtype=float) for k, v in values.items()}
+        self._functions: dict[str, Any] = {}
+        self._maps: dict[tuple[str, int], Any] = {}
+
+    def _function(self, what: str) -> Any:
+        """The interpolant, continued linearly outside the grid (a B-spline is zero past its last knot)."""
+        if what not in self._functions:
+            import casadi as ca
+
+            # values are stored with the first joint varying fastest (CasADi's column-major grid order)
+            spline = ca.interpolant(f"path_{what}", "bspline", [a.tolist() for a in self.axes_rad],
+                                    self.values[what].tolist())
+            y = ca.SX.sym("y", len(self.joints))
+            slope = ca.Function("slope", [y], [ca.jacobian(spline(y), y)])
+            x = ca.SX.sym("q", len(self.joints))
+            inside = ca.fmin(ca.fmax(x, ca.DM([a[0] for a in self.axes_rad])), ca.DM([a[-1] for a in self.axes_rad]))
+            self._functions[what] = ca.Function(f"path_{what}", [x], [spline(inside) + slope(inside) @ (x - inside)])
+        return self._functions[what]
+
+    def _slope(self, what: str, joint: str) -> Any:
+        key = f"d{what}/d{joint}"
+        if key not in self._functions:
+            import casadi as ca
+
+            x = ca.SX.sym("q", len(self.joints))
+            value = self._function(what)(x)
+            self._functions[key] = ca.Function(f"path_{what}_slope_{joint}", [x],
+                                               [ca.jacobian(value, x[self.joints.index(joint)])])
+        return self._functions[key]
+
+    def evaluate(self, what: str, q: list[Any], slope_of: str | None = None) -> Any:
+        """``what`` ("length" or a joint's moment arm) at angles ``q`` (rad, in ``joints`` order), or
+        its derivative with respect to the joint ``slope_of`` (per rad)."""
+        import casadi as ca
+
+        f = self._function(what) if slope_of is None else self._slope(what, slope_of)
+        if slope_of is not None:
+            what = f"d{what}/d{slope_of}"
+        if any(isinstance(x, (ca.SX, ca.MX)) for x in q):
+            return f(ca.vertcat(*q))
+        arrays = np.broadcast_arrays(*[np.asarray(x, dtype=float) for x in q])
+        shape = arrays[0].shape
+        n = int(np.prod(shape)) if shape else 1
+        key = (what, n)
+        if key not in self._maps:
+            self._maps[key] = f.map(n)
+        out = np.asarray(self._maps[key](np.vstack([a.reshape(1, -1) for a in arrays]))).reshape(shape)
+        return float(out) if not shape else out
+
+
 @lru_cache(maxsize=4)
 def load_paths(name: str = "rajagopal2016_paths.json") -> dict[str, MusclePath]:
     """The fitted paths shipped with the package."""
@@ -92,11 +169,15 @@ def load_paths(name: str = "rajagopal2016_paths.json") -> dict[str, MusclePath]:
     out = {}
     for m, d in data["muscles"].items():
         arms = d.get("moment_arm_coefficients_m")
-        out[m] = MusclePath(m, tuple(d["coordinates"]), tuple(tuple(e) for e in d["exponents"]),
+        grid = d.get("spline")
+        joints = tuple(d["coordinates"])
+        spline = SplineGrid(joints, {j: tuple(v) for j, v in grid["axes_deg"].items()},  # type: ignore[misc]
+                            {"length": grid["length_m"], **grid["moment_arm_m"]}) if grid else None
+        out[m] = MusclePath(m, joints, tuple(tuple(e) for e in d["exponents"]),
                             tuple(d["coefficients_m"]), d["max_isometric_force_n"], d["optimal_fiber_length_m"],
                             d["tendon_slack_length_m"], d["pennation_at_optimal_rad"], d["min_length_m"], d["fit"],
                             {k: tuple(v) for k, v in arms.items()} if arms else None,
-                            float(d.get("passive_strain", 0.6)), float(d.get("tendon_strain", 0.049)))
+                            float(d.get("passive_strain", 0.6)), float(d.get("tendon_strain", 0.049)), spline)
     return out
 
 
