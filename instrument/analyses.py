@@ -61,14 +61,25 @@ def _passive_set(protocol: Any, store: SessionStore, same: list[TrialRecord], su
     from analysis.errors import AnalysisError
     from analysis.pmp.report import analyse, subject_from, text, trial_from_table
 
+    from analysis.pmp.model_diagnosis import folds_of
+
     tables = _tables(store, same)
     try:  # a fit that does not converge says so in its own text (success=False)
-        report = analyse([trial_from_table(t) for t in tables], subject_from(subject), intervals=16)
+        trials = [trial_from_table(t) for t in tables]
+        # the model-level diagnosis (damping, a limb-mass error, an offset, ... fitted inside the
+        # estimator, each judged by predicting a left-out condition) once the set allows it: repeats,
+        # or three conditions (the knee at hip 90/55/15°)
+        model = len(trials) >= 3 and len(folds_of(trials)) >= 2
+        report = analyse(trials, subject_from(subject), intervals=16, diagnose_model=model, model_intervals=12,
+                         model_candidates=list(MODEL_CANDIDATES) if model else None)
         fitted = text(report)
     except AnalysisError as err:  # missing anthropometrics, a rejected trial, ...: say so, show the diagnosis
         fitted = f"passive parameters not fitted: {err}"
     return fitted + _diagnosis_line(tables)
 
+
+#: the model-level diagnosis's candidates in the operator's set analysis (as the demo runs them)
+MODEL_CANDIDATES = ("viscous_damping", "limb_mass_error", "torque_offset")
 
 #: the analysis of a set of accepted trials, per trial kind
 SET_ANALYSES: dict[str, Callable[[Any, SessionStore, list[TrialRecord], dict[str, float]], str]] = {

@@ -240,6 +240,7 @@ def passive_parameters(out: Path) -> tuple[dict[str, Any], bool]:
     from analysis.errors import AnalysisError
     from analysis.pmp.report import analyse, subject_from, text, to_json, trial_from_table, write_plots
 
+    from .analyses import MODEL_CANDIDATES
     from .loading import records_as_loaded
     from .store import SessionStore
 
@@ -254,7 +255,7 @@ def passive_parameters(out: Path) -> tuple[dict[str, Any], bool]:
               "estimator, each judged by predicting the left-out hip condition", flush=True)
         report = analyse([trial_from_table(t) for t in tables], subject_from(tables[0].sidecar.get("subject") or {}),
                          intervals=16, diagnose_model=len(tables) >= 3, model_intervals=12,
-                         model_candidates=["viscous_damping", "limb_mass_error", "torque_offset"],
+                         model_candidates=list(MODEL_CANDIDATES),
                          progress=lambda line: _progress(f"    {line}"))
     except AnalysisError as err:
         print(f"  PROBLEM: {err}")

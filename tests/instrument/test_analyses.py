@@ -1,0 +1,34 @@
+"""The operator's set analysis (what the GUI shows after each accepted trial), on trials recorded through the drivers."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from instrument.analyses import analyse_set
+from instrument.lab_day import SUBJECT
+from instrument.protocols import KneeProtocol
+from instrument.session import record_trial
+from instrument.simulate import lab_config_for, simulated_devices
+from instrument.store import SessionStore
+
+
+@pytest.mark.timeout(600)
+def test_a_knee_set_at_three_hip_angles_gets_the_model_level_diagnosis(tmp_path: Path) -> None:
+    store = SessionStore(tmp_path / "store")
+    store.add_subject(SUBJECT)
+    session = store.new_session(SUBJECT.code, operator="op")
+    ids = []
+    for i, hip in enumerate((90.0, 55.0, 15.0)):
+        proto = KneeProtocol(hip_flexion_deg=hip, speed_deg_s=15.0)
+        with simulated_devices(proto, lab_config_for(proto, seed=i)) as (_, devices):
+            outcome = record_trial(store, session, proto, devices, operator="op", trial_number=1)
+        store.set_status(outcome.trial_id, "accepted")
+        ids.append(outcome.trial_id)
+    subject = SUBJECT.as_dict()
+    store.close()
+    text = analyse_set(KneeProtocol(hip_flexion_deg=15.0), tmp_path / "store", ids[2], subject)
+    # the three hip conditions: each candidate extension is judged by predicting a left-out one
+    assert "model-level diagnosis (held-out across 3 conditions)" in text
+    assert "diagnosis:" in text  # the trial-level diagnosis of the last trial follows
