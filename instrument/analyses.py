@@ -59,9 +59,8 @@ def _replica_set(protocol: Any, store: SessionStore, same: list[TrialRecord], su
 
 def _passive_set(protocol: Any, store: SessionStore, same: list[TrialRecord], subject: dict[str, float]) -> str:
     from analysis.errors import AnalysisError
-    from analysis.pmp.report import analyse, subject_from, text, trial_from_table
-
     from analysis.pmp.model_diagnosis import folds_of
+    from analysis.pmp.report import analyse, subject_from, text, trial_from_table
 
     tables = _tables(store, same)
     try:  # a fit that does not converge says so in its own text (success=False)
