@@ -25,8 +25,8 @@ def plan(quick: bool) -> list[tuple[str, TrialProtocol]]:
     and short holds."""
     speed = 15.0 if quick else 5.0
     rooms: dict[str, list[TrialProtocol]] = {
-        "aads": [AadsProtocol(spring=s, operator=1 + (s % 4), trial=1, duration_s=3.0 if quick else 8.0)
-                 for s in (1, 2, 3)]}
+        # long enough for the operator's whole pass of bends (6.5–11 s), recorded whole
+        "aads": [AadsProtocol(spring=s, operator=1 + (s % 4), trial=1, duration_s=12.0) for s in (1, 2, 3)]}
     # each knee sweep in its own room: the three are the day's longest trials (recorded side by side)
     rooms.update({f"knee-hip{h:g}": [KneeProtocol(hip_flexion_deg=h, speed_deg_s=speed)] for h in (90.0, 55.0, 15.0)})
     rooms["ankle"] = [AnkleProtocol(knee_flexion_deg=k, speed_deg_s=speed) for k in (0.0, 45.0, 90.0)]

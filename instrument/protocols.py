@@ -116,6 +116,9 @@ class AadsProtocol(TrialProtocol):
     #: the operator's hand: ``unload(True)`` lifts the AFO off the plate for zeroing, ``unload(False)``
     #: puts it back; a GUI prompt on the bench, the simulator in simulation
     unload: Callable[[bool], None] | None = field(default=None, repr=False, compare=False)
+    #: the operator's cue to start bending (a prompt on the bench; the simulated operator starts one
+    #: pass of its bends, anchored to the plate's counter, in simulation)
+    begin_bends: Callable[[], float] | None = field(default=None, repr=False, compare=False)
     plate_zero_v: list[float] | None = None
     #: the stiffness fit window and the hinge stop (°), from the jig model (`analysis/aads/default_jig.toml`)
     fit_window_deg: tuple[float, float] = field(default_factory=lambda: default_jig_model().fit_window_deg)
@@ -158,6 +161,8 @@ class AadsProtocol(TrialProtocol):
         plate.read_available()  # the zeroing stream is not part of the trial
 
     def drive(self, devices: dict[str, StreamingDevice], mark: Any, stop: threading.Event) -> None:
+        if self.begin_bends is not None:
+            self.begin_bends()
         mark("bend_start", operator=self.operator)
         _wait(stop, self.duration_s)
         mark("bend_end")

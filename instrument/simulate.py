@@ -40,10 +40,18 @@ def _replica_rig(protocol: Any, subject: dict[str, float], afo: AfoProperties | 
                                   move_speed_deg_s=protocol.move_speed_deg_s)}
 
 
+#: from the operator's cue to the first bend sample (s)
+BEND_LEAD_S = 0.05
+
+
 def _afo_operator(protocol: Any, lab: SimulatedLab) -> None:
     # the simulated operator lifts the AFO off the plate for zeroing (this lab's plate, every time)
     protocol.unload = lambda off: setattr(lab.force_plate, "specimen_on_plate", not off)
-    protocol.duration_s = min(protocol.duration_s, lab.jig.profile.duration_s)
+    # on the protocol's cue the operator bends through one pass of its profile, then rests; a trial
+    # asked to last at least the pass records all of it, so the same seed records the same bends
+    # whatever the host's timing (the lab day's do)
+    protocol.begin_bends = lambda: lab.begin_bends(lead_s=BEND_LEAD_S)
+    protocol.duration_s = min(protocol.duration_s, lab.jig.profile.duration_s + BEND_LEAD_S + 0.2)
 
 
 def _replica_operator(protocol: Any, lab: SimulatedLab) -> None:

@@ -57,6 +57,10 @@ class DynamometerSimulator:
         self.noise_nm = noise_nm
         self.faults = faults or FaultConfig()
         self.rng = np.random.default_rng(seed)
+        #: torque-sensor noise per telemetry tick, counted from the last accepted START: a sweep's
+        #: samples do not depend on when the host's commands happened to arrive
+        self._noise = np.random.default_rng([seed, 1]).normal(0.0, 1.0, 1 << 16)
+        self._noise_origin = 0
         # device state
         self.state = p.State.IDLE
         self.mode = p.Mode.PASSIVE_HOLD
@@ -188,6 +192,7 @@ class DynamometerSimulator:
                 return p.Result.OUT_OF_RANGE
             self.target_deg = target
             self.state = p.State.MOVING
+            self._noise_origin = self.counter + 1  # the next tick is the movement's first
             return p.Result.OK
         return p.Result.UNKNOWN
 
@@ -226,7 +231,7 @@ class DynamometerSimulator:
     def torque_nm(self, t_s: float) -> float:
         tau = float(self.leg.shaft_torque_nm(np.array([t_s]), np.array([self.position_deg]),
                                              np.array([self.velocity_deg_s]), np.array([self.acceleration]))[0])
-        return tau + self.noise_nm * self.faults.noise_scale * float(self.rng.normal())
+        return tau + self.noise_nm * self.faults.noise_scale * float(self._noise[(self.counter - self._noise_origin) % (1 << 16)])
 
     def _telemetry(self, now: float, t_stream: float) -> None:
         c = self.faults

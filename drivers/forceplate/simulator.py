@@ -62,8 +62,19 @@ class ForcePlateSimulator:
         self._vanished_at: float | None = None
         self._disconnect_done = False
         self._table: np.ndarray | None = None
+        #: the counter at which the operator began the trial's bends (:meth:`begin_bends`); None: the
+        #: operator bends over and over from power-up (a free-running stream)
+        self.bend_origin: int | None = None
+        self._noise_table: np.ndarray | None = None
+        self._noise_seed = seed + 1
         if autostart:
             self.start()
+
+    def begin_bends(self, origin_counter: int) -> None:
+        """The operator starts one pass of the bend profile at device counter ``origin_counter`` and
+        rests afterwards; the sensor noise is then drawn per counter from there, so a trial's samples
+        do not depend on when the host happened to poll (the demo prints the same numbers twice)."""
+        self.bend_origin = int(origin_counter)
 
     @property
     def url(self) -> str:
@@ -120,18 +131,26 @@ class ForcePlateSimulator:
 
     def loads_at(self, counters: np.ndarray) -> np.ndarray:
         """Six true loads (n, 6) at device counters, plus sensor noise."""
+        counters = np.asarray(counters)
         if self.jig is not None and self.specimen_on_plate:
             # the operator's trial repeats: evaluate the physics once per period, then index it
             n = int(round(self.jig.profile.duration_s * self.rate_hz))
             if self._table is None or self._table.shape[0] != n:
                 st = self.jig.state(np.arange(n) / self.rate_hz)
                 self._table = np.hstack([st.force_n, st.moment_nm])
-            loads = self._table[counters % n]
+            index = counters % n if self.bend_origin is None else np.clip(counters - self.bend_origin, 0, n - 1)
+            loads = self._table[index]
         else:
-            loads = np.zeros((np.asarray(counters).size, 6))
+            loads = np.zeros((counters.size, 6))
         sd = self.noise_n * self.faults.noise_scale
         if sd > 0:
-            loads = loads + self.rng.normal(0.0, 1.0, loads.shape) * np.array([sd, sd, sd, sd * .05, sd * .05, sd * .05])
+            scale = np.array([sd, sd, sd, sd * .05, sd * .05, sd * .05])
+            if self.bend_origin is None:
+                loads = loads + self.rng.normal(0.0, 1.0, loads.shape) * scale
+            else:
+                if self._noise_table is None:
+                    self._noise_table = np.random.default_rng(self._noise_seed).normal(0.0, 1.0, (1 << 16, 6))
+                loads = loads + self._noise_table[(counters - self.bend_origin) % (1 << 16)] * scale
         return loads
 
     def _run(self) -> None:

@@ -46,6 +46,10 @@ class MarkerSimulator:
         self.name = name or f"markers-{next(_ids)}"
         self.vanished = False
         self._table: np.ndarray | None = None
+        #: the frame at which the operator began the trial's bends (see ForcePlateSimulator.begin_bends)
+        self.bend_origin: int | None = None
+        self._noise_table: np.ndarray | None = None
+        self._noise_seed = seed + 7
         with _registry_lock:
             _registry[self.name] = self
 
@@ -63,9 +67,16 @@ class MarkerSimulator:
         if self._table is None:
             st = self.jig.state(np.arange(n) / self.rate_hz)
             self._table = np.stack([st.markers_m[k] for k in self.labels], axis=1)
-        pos = self._table[np.arange(first, first + count) % n].copy()
+        frames = np.arange(first, first + count)
+        index = frames % n if self.bend_origin is None else np.clip(frames - self.bend_origin, 0, n - 1)
+        pos = self._table[index].copy()
         if self.noise_m > 0:
-            pos += self.rng.normal(0.0, self.noise_m, pos.shape)
+            if self.bend_origin is None:
+                pos += self.rng.normal(0.0, self.noise_m, pos.shape)
+            else:  # drawn per frame from the bends' start: the same trial whenever the host reads it
+                if self._noise_table is None:
+                    self._noise_table = np.random.default_rng(self._noise_seed).normal(0.0, 1.0, (1 << 14, *pos.shape[1:]))
+                pos += self.noise_m * self._noise_table[(frames - self.bend_origin) % (1 << 14)]
         if self.occlusion_rate > 0:
             pos[self.rng.random(pos.shape[:2]) < self.occlusion_rate] = np.nan
         return pos

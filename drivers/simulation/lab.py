@@ -4,7 +4,10 @@ from __future__ import annotations
 
 import itertools
 import os
+import time
 from dataclasses import dataclass, field
+
+import numpy as np
 
 from ..dynamometer.simulator import DynamometerSimulator
 from ..forceplate.simulator import ForcePlateSimulator
@@ -61,6 +64,17 @@ class SimulatedLab:
             "torque_sensor": self.torque_sensor.url,
             "mocap": self.mocap.url,
         }
+
+    def begin_bends(self, lead_s: float = 0.05) -> float:
+        """The simulated operator starts the trial's bends ``lead_s`` from now, at a plate counter on a
+        motion-capture frame (plate and cameras share one time origin); returns the host time (s,
+        ``time.monotonic``) of the first bend sample."""
+        plate, cams = self.force_plate, self.mocap
+        per_frame = plate.rate_hz // cams.rate_hz
+        counter = int(np.ceil(((time.monotonic() + lead_s) - plate.time_origin_s) * plate.rate_hz / per_frame)) * per_frame
+        plate.begin_bends(counter)
+        cams.bend_origin = counter // per_frame
+        return plate.time_origin_s + counter / plate.rate_hz
 
     def close(self) -> None:
         self.force_plate.close()
