@@ -18,7 +18,7 @@ absorb model error; the identifiability report says which those are.
 
 Parameters, shared by all trials given: tendon slack length of every muscle crossing a moving
 joint (bounds 0.6–1.25 × generic, :data:`SLACK_BOUNDS`; a tendon longer than its path is simply
-slack), passive fibre strain ε₀ of the knee muscles (0.2–1.2) and tendon strain ε_T0 of the calf
+slack), passive fibre strain ε₀ of each of them (0.2–1.2) and tendon strain ε_T0 of the calf
 muscles (0.02–0.12). All decision variables are scaled to order one.
 """
 

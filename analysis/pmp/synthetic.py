@@ -4,7 +4,7 @@ Knee trials: 0→90° at 5 °/s at hip 90, 55 and 15° (ankle 0°), 0.3 N·m tor
 15→−30° at 5 °/s at knee 0, 45 and 90° (hip 90°), 0.2 N·m noise. Perturbations: slack lengths
 ×U(0.96, 1.02) (kept below the no-buckling bound), ε₀ of the non-calf muscles ×U(0.9, 1.1),
 ε_T0 of the calf tendons ×U(0.85, 1.15); the calf fibres keep the generic ε₀ (the estimator fits
-their tendons instead, as the dissertation does).
+it too, its prior holding it near generic where the trials do not determine it).
 """
 
 from __future__ import annotations
