@@ -7,8 +7,9 @@ setting (variable projection): a grid, then a bounded refinement.
 Baselines (angles in rad inside):
 - ``afo``: a spring with moment-arm nonlinearity, τ = c₀ + c₁θ + c₂θ²;
 - ``knee``, ``ankle``: the limb's weight from the subject (known, subtracted) plus a smooth
-  elastic moment, c₀ + c₁θ + c₂θ² + c₃θ³ + Σₖ (aₖe^{rₖ(θ−θmax)} + bₖe^{−rₖ(θ−θmin)}), rₖ in
-  ``EXP_RATES_PER_RAD`` (stiffening toward both ends of the range, as passive joint moments do);
+  elastic moment, c₀ + c₁θ + c₂θ² + c₃θ³ + Σₖ aₖe^{−rₖ(θ−θmin)} + Σⱼ bⱼe^{rⱼ(θ−θmax)}, the rates
+  per joint and end in ``END_EXP_RATES_PER_RAD`` (stiffening steeply where passive joint moments do:
+  knee extension, ankle dorsiflexion);
 - ``replica``: springs on wrapped paths, τ = c₀ + c₁θ + c₂θ².
 
 The *flexible* baseline adds a cubic spline in angle (truncated-power terms (θ − κⱼ)₊³ at
@@ -33,10 +34,36 @@ FRICTION_SPEED_RAD_S = np.deg2rad(1.0)  # tanh width of a Coulomb term where one
 #: the widths (rad/s) the diagnosis tries for the Coulomb term's tanh: a sharp sign change (dry
 #: friction) to a gradual one (Stribeck, or friction seen through the smoothed velocity)
 FRICTION_WIDTHS_RAD_S = np.deg2rad(np.array([0.25, 0.5, 1.0, 2.0, 4.0]))
-#: rates (1/rad) of the baseline's stiffening exponentials at each end of the range: published
-#: passive joint moments (Riener & Edrich 1999: 2.0–11.2 /rad) are sums of such terms, and two rates
-#: per end span them to < 0.02 N·m where one rate left 0.4 N·m (a false "stop" at 3× the noise)
-EXP_RATES_PER_RAD = (3.0, 9.0)
+#: rates (1/rad) of the baseline's stiffening exponentials at the (low, high) end of each joint's range.
+#: Passive joint moments are sums of such terms, steep at one end only: knee extension (Riener &
+#: Edrich 1999: 0.150 /° = 8.6 /rad; the hamstrings in this project's muscle model) and ankle
+#: dorsiflexion (the triceps surae), gentle at knee flexion (Riener ≤ 2.8 /rad; the muscle model's
+#: knee moment levels off past 80°) and at ankle plantarflexion (Riener's 11 /rad term there is
+#: < 0.3 N·m; the muscle model's moment flattens). Two rates at the steep end span the published
+#: curves to < 0.02 N·m (one rate left 0.4 N·m, a false "stop" at 3× the noise). A steep rate at the
+#: gentle end is what a hard stop looks like: with (3, 9) /rad at both ends, a stop of 3–5× the
+#: noise at the true angle reached t > 3.5 in 8 of 20 knee and 6 of 20 ankle trials of the
+#: independent generator; with these rates in 20 of 20 and 16 of 20, while on 20 clean trials each
+#: the largest spurious stop t stayed 2.94 (knee) and 3.12 (ankle) and the residual 0.993× the
+#: noise (median), as before
+END_EXP_RATES_PER_RAD: dict[str, tuple[tuple[float, ...], tuple[float, ...]]] = {
+    "knee": ((3.0, 9.0), (3.0,)),
+    "ankle": ((), (3.0, 9.0)),
+}
+#: the part of a joint's range, at either end, over which a hard stop may engage: a stop (the end of
+#: the range of motion, a hinge or a mechanical limit) acts over a few degrees, here at most 20 % of
+#: the range (9° of an ankle's 45°, 18° of a knee's 90°); a "stop" acting over more of the range is a
+#: gradual stiffening, which the baseline's exponentials describe. With stops allowed anywhere, 2 of
+#: 132 clean ankle trials of the independent generator took one at 19 % and 24 % of the range from
+#: its end (ΔBIC > 0, by held-out gain alone at 1000 Hz); that generator's stops act over the last
+#: 4–8° (≤ 17 % of an ankle's range, ≤ 9 % of a knee's)
+STOP_END_FRACTION = 0.2
+#: a joint's stop must be entered by at least this much (°) at the end of the range: a "stop" over
+#: the last degree acts only during the turnaround, on a few samples where the velocity reverses and
+#: friction, damping and a delay change sign. On clean independent trials the spurious stops that
+#: passed the tests sat 1.2° (2 trials) and 2.9° (1) from the end; that generator's stops are
+#: entered by 4–8°
+MIN_STOP_DEPTH_DEG = 2.5
 SPLINE_KNOTS = 8                          # interior knots of the flexible baseline's spline
 #: an activation burst's physiological duration (s): a stretch reflex or a voluntary twitch lasts
 #: 0.15–2 s; longer "bursts" would absorb drift or a baseline mismatch
@@ -109,8 +136,9 @@ def baseline_columns(kind: str, theta: np.ndarray, lo: float, hi: float, flexibl
     """Baseline basis (n, p) at angles ``theta`` (rad); ``flexible`` adds the spline in angle."""
     if kind in ("knee", "ankle"):
         cols = [np.ones_like(theta), theta, theta**2, theta**3]
-        for rate in EXP_RATES_PER_RAD:
-            cols += [np.exp(rate * (theta - hi)), np.exp(-rate * (theta - lo))]
+        low_end, high_end = END_EXP_RATES_PER_RAD[kind]
+        cols += [np.exp(-rate * (theta - lo)) for rate in low_end]
+        cols += [np.exp(rate * (theta - hi)) for rate in high_end]
     else:
         cols = [np.ones_like(theta), theta, theta**2]
     if flexible:
@@ -207,10 +235,21 @@ def _stop_column(prep: Prepared, stop: float) -> np.ndarray:
 
 def _stop_grid(prep: Prepared) -> list[np.ndarray]:
     """Stop angles spread evenly over the range (not over the samples: a bend spends little time past
-    its stop), 2 % of the range clear of either end."""
+    its stop).
+
+    A joint's stop engages within :data:`STOP_END_FRACTION` of its range from either end and at
+    least :data:`MIN_STOP_DEPTH_DEG` before it: 20 angles at each end. The orthosis's stop is its
+    dorsiflexion hinge stop, in the upper half of the bend (its lower end is the spring's
+    engagement, cut); the replica's springs may meet a stop anywhere. Both keep 2 % of the range
+    clear of either end."""
     span = prep.hi - prep.lo
-    if prep.trial.kind == "afo":  # the orthosis's stop is its dorsiflexion hinge stop; its lower end is the
-        return [np.linspace(prep.lo + 0.5 * span, prep.hi - 0.02 * span, 24)]  # spring's engagement, cut
+    if prep.trial.kind == "afo":
+        return [np.linspace(prep.lo + 0.5 * span, prep.hi - 0.02 * span, 24)]
+    if prep.trial.kind in ("knee", "ankle"):
+        near = max(0.02 * span, np.deg2rad(MIN_STOP_DEPTH_DEG))
+        far = max(STOP_END_FRACTION * span, near)
+        return [np.concatenate([np.linspace(prep.lo + near, prep.lo + far, 20),
+                                np.linspace(prep.hi - far, prep.hi - near, 20)])]
     return [np.linspace(prep.lo + 0.02 * span, prep.hi - 0.02 * span, 40)]
 
 
