@@ -43,6 +43,10 @@ FRICTION_SPEED_RAD_S = math.radians(1.0)
 #: when the plain model's held-out error is this many times its in-sample error, the folds do not
 #: predict each other (a left-out condition's muscles are extrapolated) and nothing can be judged
 INCONCLUSIVE_FACTOR = 5.0
+#: an extension's parameter counts as away from zero when its 95 % interval excludes zero *and* it is
+#: at least this fraction of the parameter's typical size: a damping of 1e-7 N·m·s/rad with a tight
+#: interval (an optimiser's leftover, 1e-8 N·m at 5°/s) is not a finding
+MATERIAL_FRACTION = 0.01
 #: what would separate an extension the muscles absorb from them (one-way sweeps at one speed make
 #: damping and friction constant offsets, and a weight error a smooth function of angle)
 PROTOCOL_TO_SEPARATE = {
@@ -111,6 +115,14 @@ EXTENSIONS: dict[str, Extension] = {e.name: e for e in [
 ]}
 
 
+def is_material(finding: "ExtensionFinding") -> bool:
+    """Whether any of the finding's parameters is away from zero (interval and size; :data:`MATERIAL_FRACTION`)."""
+    ext = EXTENSIONS.get(finding.name)
+    typical = dict(zip(ext.parameters, ext.typical)) if ext else {}
+    return any((lo > 0 or hi < 0) and abs(finding.parameters.get(k, 0.0)) >= MATERIAL_FRACTION * typical.get(k, 0.0)
+               for k, (lo, hi) in finding.ci95.items())
+
+
 @dataclass
 class ExtensionFinding:
     """One candidate as judged: held-out RMSE (N·m) pooled over the left-out conditions, its ratio to
@@ -153,7 +165,7 @@ class ModelDiagnosis:
             lines.append(f"  {c.name:<20}{c.heldout_rmse_nm:>13.3f} N·m{c.heldout_ratio:>8.2f}  {ps}"
                          + ("  ← named" if c.named else ""))
         w = self.winner() or next((c for c in sorted(self.candidates, key=lambda c: c.heldout_ratio)
-                                   if any(lo > 0 or hi < 0 for lo, hi in c.ci95.values())), None)
+                                   if is_material(c)), None)
         if w is not None:
             moved = sorted(w.parameter_shift_pct.items(), key=lambda kv: -abs(kv[1]))[:5]
             lines.append(f"  with {w.name}, the passive parameters move: " + ", ".join(f"{k} {v:+.1f} %" for k, v in moved))
@@ -297,8 +309,7 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
                    + (f"; {', '.join(close)} predict nearly as well (these trials do not separate them)" if close else ""))
         cause = best.name
     else:
-        absorbed = [f for f in findings if f.heldout_ratio < 1.05 and any(
-            (lo > 0 or hi < 0) for lo, hi in f.ci95.values())]
+        absorbed = [f for f in findings if f.heldout_ratio < 1.05 and is_material(f)]
         message = (f"no extension predicts the left-out trials better than {max_heldout_ratio:.0%} of the plain "
                    f"model's {base:.3f} N·m: the model fits to the noise of these trials")
         if absorbed:
