@@ -11,7 +11,8 @@ from pathlib import Path
 BENCHMARKS = {"drivers": "benchmarks.drivers", "pmp_opensim": "benchmarks.pmp_opensim", "recording": "benchmarks.recording", "aads": "benchmarks.aads",
               "diagnosis": "benchmarks.diagnosis", "pmp": "benchmarks.pmp",
               "relaxation": "benchmarks.relaxation", "gui": "benchmarks.gui", "safety": "benchmarks.safety",
-              "cohort": "benchmarks.cohort", "diagnosis_wide": "benchmarks.diagnosis_wide"}
+              "cohort": "benchmarks.cohort", "diagnosis_wide": "benchmarks.diagnosis_wide",
+              "pmp_model_diagnosis": "benchmarks.pmp_model_diagnosis"}
 
 
 def main(argv: list[str] | None = None) -> int:
