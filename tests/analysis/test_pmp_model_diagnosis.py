@@ -58,3 +58,16 @@ def test_damping_on_one_way_single_speed_sweeps_is_reported_absorbed_with_the_pr
     damping = next(c for c in d.candidates if c.name == "viscous_damping")
     assert damping.ci95["damping_Nm_s_per_rad"][0] > 0
     assert max(abs(v) for v in damping.parameter_shift_pct.values()) > 1.0  # the muscles moved to absorb it
+
+
+def test_a_parameter_is_material_only_when_its_interval_excludes_zero_and_it_has_a_size() -> None:
+    from analysis.pmp.model_diagnosis import ExtensionFinding, is_material
+
+    def finding(name: str, key: str, value: float, lo: float, hi: float) -> ExtensionFinding:
+        return ExtensionFinding(name, 0.2, 1.0, {key: value}, {key: (lo, hi)}, {}, {})
+
+    # an optimiser's leftover with a tight interval: 1e-7 N·m·s/rad is 1e-8 N·m at 5 °/s
+    assert not is_material(finding("viscous_damping", "damping_Nm_s_per_rad", 8.8e-8, 5.8e-8, 1.2e-7))
+    assert not is_material(finding("limb_mass_error", "limb_weight_error_fraction", 0.15, -0.02, 0.32))
+    assert is_material(finding("limb_mass_error", "limb_weight_error_fraction", 0.15, 0.08, 0.22))
+    assert is_material(finding("torque_offset", "knee_offset_Nm", -1.6, -2.7, -0.5))
