@@ -39,10 +39,35 @@ def _tables(store: SessionStore, same: list[TrialRecord]) -> list[Any]:
     return [t.table() for t in records_as_loaded(store, same)]
 
 
+def live_check_agreement(diagnosis: Any) -> str:
+    """What the operator needs when the offline diagnosis names an activation on an accepted trial,
+    which the live relaxation check let through: the two checks' sizes, so they do not contradict
+    each other on screen ("" when the diagnosis names no activation)."""
+    from .relaxation import LIVE_DETECTION_FLOOR_NM
+
+    named = [(diagnosis.cause, diagnosis.parameters)] + [(a["cause"], a["parameters"]) for a in diagnosis.also]
+    burst = next((p for c, p in named if c == "activation_burst"), None)
+    if burst is None:
+        return ""
+    amplitude = abs(float(burst["burst_amplitude_Nm"]))
+    start, duration = float(burst["burst_start_s"]), float(burst["burst_duration_s"])
+    if amplitude < LIVE_DETECTION_FLOOR_NM:
+        why = (f"below the {LIVE_DETECTION_FLOOR_NM:g} N·m the live relaxation check catches, so it raised no alarm "
+               "while the diagnosis, fitting the whole trial, can see it")
+    else:
+        why = "large enough for the live relaxation check: if it raised no alarm, the operator accepted the trial over it"
+    return (f"\n  the trial was accepted, yet the diagnosis fits an activation of {amplitude:.2f} N·m at "
+            f"{start:.1f}–{start + duration:.1f} s into the trial: {why}. Look at the torque there; repeat the "
+            "trial if the subject was not relaxed, or the passive fit includes it")
+
+
 def _diagnosis_line(tables: list[Any]) -> str:
     from analysis.diagnosis import diagnose, from_table
 
-    return ("\ndiagnosis: " + diagnose(from_table(tables[-1])).text().splitlines()[0]) if tables else ""
+    if not tables:
+        return ""
+    d = diagnose(from_table(tables[-1]))
+    return "\ndiagnosis: " + d.text().splitlines()[0] + live_check_agreement(d)
 
 
 def _replica_set(protocol: Any, store: SessionStore, same: list[TrialRecord], subject: dict[str, float]) -> str:
@@ -108,4 +133,4 @@ def analyse_set(protocol: TrialProtocol, store_root: Any, trial_id: int, subject
         store.close()
 
 
-__all__ = ["SET_ANALYSES", "analyse_set"]
+__all__ = ["SET_ANALYSES", "analyse_set", "live_check_agreement"]

@@ -32,3 +32,22 @@ def test_a_knee_set_at_three_hip_angles_gets_the_model_level_diagnosis(tmp_path:
     # the three hip conditions: each candidate extension is judged by predicting a left-out one
     assert "model-level diagnosis (held-out across 3 conditions)" in text
     assert "diagnosis:" in text  # the trial-level diagnosis of the last trial follows
+
+
+def test_an_activation_the_live_check_let_through_is_explained_not_contradicted() -> None:
+    """A relaxed-looking knee trial with a small burst (3–5× the noise, under the live check's 1 N·m):
+    the set analysis names it and says why the live check raised no alarm; a clean trial gets no such line."""
+    from analysis.diagnosis import diagnose
+    from benchmarks.diagnosis import as_trial
+    from benchmarks.diagnosis_truth import generate
+    from instrument.analyses import live_check_agreement
+
+    g = generate("knee", ("activation_burst",), 1000)  # independent generator: Riener & Edrich moments
+    d = diagnose(as_trial(g))
+    assert d.cause == "activation_burst"
+    line = live_check_agreement(d)
+    assert g.effects["activation_burst"] < 1.0
+    assert "accepted" in line and "below the 1 N·m the live relaxation check catches" in line
+    start = g.details["burst_start_s"]
+    assert f"{d.parameters['burst_start_s']:.1f}" in line and abs(d.parameters["burst_start_s"] - start) < 1.0
+    assert live_check_agreement(diagnose(as_trial(generate("knee", (), 500)))) == ""
