@@ -183,9 +183,19 @@ def afo_experiment(out: Path, store_dir: Path | None = None) -> tuple[dict[str, 
               f"{1.0 / mean['compliance_deg_per_nm']:>13.1f}")
     print("  hinge friction lifts the loading branch (softest spring over); the shell's bending stretches the "
           "angle more the stiffer the spring (stiffest under).")
+    from analysis.diagnosis.aads_model import AfoTrialData, diagnose_afo_model
+
+    picked = [r for r in experiment.results
+              if r.factors.get("operator") in (3, 4) and r.factors.get("trial") == 1 and r.theory is not None]
+    _progress(f"  model-level diagnosis of the AFO model on {len(picked)} trials (3 springs × operators 3, 4), "
+              "each left out once ...")
+    afo_model = diagnose_afo_model(
+        [AfoTrialData.from_result(r, f"spring {r.factors['spring']} operator {r.factors['operator']}") for r in picked],
+        window_deg=model.fit_window_deg)
+    print("\n".join("  " + line for line in afo_model.text().splitlines()))
     summary: dict[str, Any] = {"explained": explained, "table_2_1": [r.as_dict() for r in experiment.springs],
                                "table_2_2": [r.as_dict() for r in experiment.anova or []],
-                               "failed": experiment.failed}
+                               "model_diagnosis": afo_model.as_dict(), "failed": experiment.failed}
     ok = not experiment.failed and experiment.anova is not None
     if not ok:
         print(f"  PROBLEM: failed trials {experiment.failed}; ANOVA {experiment.anova_error or 'ok'}")
