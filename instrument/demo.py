@@ -26,6 +26,12 @@ def _progress(line: str) -> None:
     print(line, file=sys.stderr, flush=True)
 
 
+def _measured(line: str) -> None:
+    """A measurement of this host (stream rates, recorded sample counts, latencies, solve times): on
+    stderr with the progress, so that stdout holds only what the seeds determine."""
+    print(line, file=sys.stderr, flush=True)
+
+
 def _wire_limit_hz(name: str, lab: SimulatedLab) -> float:
     if name == "force_plate":
         return fp_protocol.max_sample_rate_hz(921600)
@@ -75,11 +81,13 @@ def _row(name: str, res: StreamResult, lab: SimulatedLab) -> dict[str, Any]:
 
 
 def _print_table(rows: list[dict[str, Any]], title: str) -> None:
-    print(f"\n{title}")
-    print(f"{'device':<14}{'samples':>9}{'rate Hz':>10}{'gaps':>6}{'lost':>7}{'CRC err':>9}{'malformed':>11}{'wire use':>10}")
+    """The streams' table: a measurement of this host's timing (on stderr, see :func:`_measured`)."""
+    _measured(f"\n{title} (measured on this host)")
+    _measured(f"{'device':<14}{'samples':>9}{'rate Hz':>10}{'gaps':>6}{'lost':>7}{'CRC err':>9}{'malformed':>11}"
+              f"{'wire use':>10}")
     for r in rows:
-        print(f"{r['device']:<14}{r['samples']:>9}{r['rate_hz']:>10.1f}{r['gaps']:>6}{r['lost_samples']:>7}"
-              f"{r['crc_errors']:>9}{r['malformed_frames']:>11}{r['wire_limit_ratio']:>10.3f}")
+        _measured(f"{r['device']:<14}{r['samples']:>9}{r['rate_hz']:>10.1f}{r['gaps']:>6}{r['lost_samples']:>7}"
+                  f"{r['crc_errors']:>9}{r['malformed_frames']:>11}{r['wire_limit_ratio']:>10.3f}")
 
 
 def physics_summary(results: dict[str, StreamResult]) -> dict[str, float]:
@@ -107,10 +115,11 @@ def lab_day(out: Path, quick: bool) -> tuple[list[dict[str, Any]], bool]:
           f"ankle knee 0/45/90°, replica leg; rooms in parallel) ...")
     store, outcomes = record_lab_day(store_dir, quick=quick, progress=_progress)
     rows = summary_rows(store)
-    print(f"{'trial':>5} {'protocol':<8} {'status':<10} {'samples':<42} condition")
+    print(f"{'trial':>5} {'protocol':<8} {'status':<10} condition")
+    _measured("  lab day: samples recorded per trial (recordings start and stop by the host's clock)")
     for r in rows:
-        samples = " ".join(f"{n}={c}" for n, c in r["samples"].items())
-        print(f"{r['trial']:>5} {r['protocol']:<8} {r['status']:<10} {samples:<42} {r['condition']}")
+        print(f"{r['trial']:>5} {r['protocol']:<8} {r['status']:<10} {r['condition']}")
+        _measured(f"  {r['trial']:>5} {r['protocol']:<8} " + " ".join(f"{n}={c}" for n, c in r["samples"].items()))
     exports = out / "exports"
     exports.mkdir(exist_ok=True)
     done = set()
@@ -133,6 +142,11 @@ def lab_day(out: Path, quick: bool) -> tuple[list[dict[str, Any]], bool]:
             print(f"  NOTE: lab-day trial {r['trial']}: unanswered polls {r['lost']} (counted as gaps)")
     store.close()
     return rows, ok
+
+
+def _agreement(difference_nm: float) -> str:
+    """A difference at rounding level as a bound (its digits are the float arithmetic's, not the data's)."""
+    return "< 1e-9" if abs(difference_nm) < 1e-9 else f"{difference_nm:.1e}"
 
 
 def afo_experiment(out: Path, store_dir: Path | None = None) -> tuple[dict[str, Any], bool]:
@@ -208,7 +222,7 @@ def afo_experiment(out: Path, store_dir: Path | None = None) -> tuple[dict[str, 
         for r in recorded.results:
             print(f"    trial {r.factors.get('store_trial_id')}: spring {r.factors.get('spring')}, "
                   f"SOP {r.stiffness_nm_per_deg:.3f} N·m/° vs theory {r.theoretical_stiffness_nm_per_deg:.3f}, "
-                  f"SOP − bottom-up {r.summary()['sop_vs_bottom_up_max_nm']:.1e} N·m")
+                  f"SOP − bottom-up {_agreement(r.summary()['sop_vs_bottom_up_max_nm'])} N·m")
         summary["recorded"] = [r.summary() for r in recorded.results]
         if recorded.failed or len(recorded.results) != len(ids):
             print(f"  PROBLEM: recorded AADS trials that failed: {recorded.failed}")
@@ -270,7 +284,8 @@ def passive_parameters(out: Path) -> tuple[dict[str, Any], bool]:
     except AnalysisError as err:
         print(f"  PROBLEM: {err}")
         return {"error": str(err)}, False
-    print("  " + text(report).replace("\n", "\n  "))
+    _measured(f"  passive fit solved in {report['result'].solve_time_s:.1f} s")
+    print("  " + text(report, timings=False).replace("\n", "\n  "))
     write_plots(report, out / "pmp")
     return to_json(report), True
 
@@ -307,7 +322,8 @@ def cohort(out: Path, subjects: int = 0, bootstrap: int = 3) -> tuple[dict[str, 
                   "report should say the model does not fit well enough to determine anything)", flush=True)
         show = progress_printer(sys.stderr, every=default_every(n * (1 + bootstrap)))
         run, files = analyze_cohort(store, where, bootstrap=bootstrap, progress=show, client=client)
-        print("  " + text(run.summaries, engine_account(run, n)).replace("\n", "\n  "))
+        _measured(f"  cohort analysis took {engine_account(run, n)['wall_s']:.1f} s")
+        print("  " + text(run.summaries, engine_account(run, n), timings=False).replace("\n", "\n  "))
         for afo, res in run.afo_sets.items():
             print(f"  AFO set {afo!r} ({len(res['json']['trials'])} trials):")
             print("    " + res["text"].replace("\n", "\n    "))
@@ -375,8 +391,8 @@ def operator_drill(out: Path) -> tuple[dict[str, Any], bool]:
             runner.start()
             runner.sweep_started.wait(20.0)
             if case == "burst":
-                source.inject_burst(3.0, delay_s=1.2)
-            latency_ms = None
+                source.inject_burst(3.0, at_movement_s=1.2)
+            latency_ms, stopped = None, False
             if case == "estop":
                 time.sleep(0.5)
                 assert source.lab is not None
@@ -386,6 +402,7 @@ def operator_drill(out: Path) -> tuple[dict[str, Any], bool]:
                 while sim.state != State.ESTOP and time.perf_counter() - t0 < 1.0:
                     time.sleep(0.0005)
                 latency_ms = (time.perf_counter() - t0) * 1e3
+                stopped = sim.state == State.ESTOP
             runner.wait(30.0)
         snap = runner.snapshot()
         why = runner.suggested_rejection()
@@ -394,9 +411,12 @@ def operator_drill(out: Path) -> tuple[dict[str, Any], bool]:
         status = store.trial(snap.outcome.trial_id).status if snap.outcome else "failed"
         rows[case] = {"alarms": [a.angle_deg for a in snap.alarms], "status": status, "reason": why,
                       "estop_latency_ms": latency_ms}
-        extra = f", e-stop reached the dynamometer in {latency_ms:.1f} ms" if latency_ms is not None else ""
+        if latency_ms is not None:
+            _measured(f"  e-stop reached the dynamometer in {latency_ms:.1f} ms")
+        reached = (", the dynamometer latched its e-stop" if stopped else ", PROBLEM: the dynamometer did not stop") \
+            if case == "estop" else ""
         flags = ", ".join(f"{a.angle_deg:.1f}°" for a in snap.alarms) or "none"
-        print(f"  {case:<8} activation flags: {flags}; trial {status}" + (f" ({why})" if why else "") + extra)
+        print(f"  {case:<8} activation flags: {flags}; trial {status}" + (f" ({why})" if why else "") + reached)
     store.close()
     ok = bool(rows["burst"]["alarms"]) and rows["burst"]["status"] == "rejected" and \
         rows["relaxed"]["status"] == "accepted" and rows["estop"]["status"] == "rejected"
@@ -442,11 +462,15 @@ def main(seconds: float = 4.0, out: Path | None = None, faults: bool = True, qui
     rows = [_row(n, r, lab) for n, r in clean.items()]
     _print_table(rows, "Clean links (every sample should arrive):")
     phys = physics_summary(clean)
-    print(f"  plate Fz {phys['plate_fz_min_n']:.1f}..{phys['plate_fz_max_n']:.1f} N while the operator bends the AFO; "
+    _measured(f"  plate Fz {phys['plate_fz_min_n']:.1f}..{phys['plate_fz_max_n']:.1f} N while the operator bends the AFO; "
           f"dynamometer at {phys['dyno_position_end_deg']:.1f}° after {seconds:.0f} s of a 5°/s knee flexion "
           f"(torque range {phys['dyno_torque_range_nm']:.2f} N·m); replica-leg torque {phys['torque_sensor_mean_nm']:.2f} N·m")
     report: dict[str, Any] = {"clean": rows, "physics": phys}
     ok = all(r["crc_errors"] == 0 and (r["lost_samples"] == 0 or r["device"] in POLLED_DEVICES) for r in rows)
+    streamed = [r["device"] for r in rows if r["device"] not in POLLED_DEVICES]
+    print(f"Clean links: {', '.join(streamed)}: " + ("every sample arrived, no CRC error" if ok else "PROBLEM: "
+          "samples lost or corrupted on a clean link") + f"; {', '.join(sorted(POLLED_DEVICES))}: polled "
+          "(rates and counts, a measurement of this host, on stderr)")
     for r in rows:
         if r["device"] in POLLED_DEVICES and r["lost_samples"]:
             print(f"  NOTE: {r['device']}: {r['lost_samples']} polls unanswered in time on the simulated link "
@@ -456,7 +480,11 @@ def main(seconds: float = 4.0, out: Path | None = None, faults: bool = True, qui
         drill, lab = run_streams(seconds, LabConfig(plate_faults=bad, dyno_faults=bad, torque_faults=bad, seed=1))
         frows = [_row(n, r, lab) for n, r in drill.items()]
         _print_table(frows, "Fault drill (1% dropped, 1% corrupted, 1% garbage, 0.5% truncated frames):")
-        print("  every bad frame is counted and skipped; lost samples are gaps in the device counter.")
+        counted = all(r["samples"] > 0 and r["gaps"] > 0 and r["crc_errors"] + r["malformed_frames"] > 0
+                      for r in frows)
+        print("Fault drill (1% dropped, 1% corrupted, 1% garbage, 0.5% truncated frames): "
+              + ("on every device the bad frames were counted and skipped and the lost samples are gaps in the "
+                 "device counter" if counted else "PROBLEM: a device's bad frames went uncounted") + ".")
         report["fault_drill"] = frows
         ok = ok and all(r["samples"] > 0 for r in frows)
     if out is not None:

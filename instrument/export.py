@@ -1,7 +1,7 @@
 """Export a recorded trial: OpenSim ``.sto``/``.mot``, the trial CSV with its JSON sidecar, and C3D.
 
 Sign conventions are the trial CSV's (:mod:`analysis.trial_csv`). For dynamometer trials the
-export is the isokinetic sweep (between the protocol's ``sweep_start`` and ``sweep_end`` marks),
+export is the isokinetic sweep (between the protocol's ``sweep_start`` and ``sweep_end`` marks, narrowed to the arm's movement),
 with the dynamometer arm's weight removed from the torque using the arm mass and centre of mass
 entered at set-up; for replica-leg trials it is the samples inside each hold, with the hold angle.
 """
@@ -50,6 +50,53 @@ def _event_time(trial: TrialFile, kind: str) -> float | None:
     return None
 
 
+#: a dynamometer sample is part of the movement when its speed is at least this fraction of the sweep's
+MOVING_FRACTION_OF_SWEEP_SPEED = 0.01
+
+
+def _sweep_speed_rad_s(trial: TrialFile) -> float:
+    for e in trial.events:
+        if e.get("kind") == "sweep_start" and e.get("speed_deg_s"):
+            return float(np.deg2rad(float(e["speed_deg_s"])))
+    return 0.0
+
+
+def _movement(keep: np.ndarray, velocity_rad_s: np.ndarray, sweep_speed_rad_s: float) -> np.ndarray:
+    """The movement that the sweep marks ``keep`` overlap, by the arm's velocity: from the first
+    moving sample to the first at rest after the arm stops (its arrival at the end angle).
+
+    The marks are stamped by the host when it commands the move and hears it end, a tick or two
+    either side of the movement and differently every run; the movement itself is counted in the
+    device's ticks, so the table — and every analysis of it — is the same for the same device
+    behaviour."""
+    if sweep_speed_rad_s <= 0.0:
+        return keep
+    moving = np.abs(velocity_rad_s) >= MOVING_FRACTION_OF_SWEEP_SPEED * sweep_speed_rad_s
+    inside = np.flatnonzero(keep & moving)
+    if len(inside) == 0:
+        return keep
+    first, last = int(inside[0]), int(inside[-1])
+    while first > 0 and moving[first - 1]:
+        first -= 1
+    while last < len(moving) - 1 and moving[last + 1]:
+        last += 1
+    out = np.zeros_like(keep)
+    out[first:min(last + 2, len(keep))] = True
+    return out
+
+
+def _device_time_s(device: Any, keep: np.ndarray) -> np.ndarray:
+    """Time in the sweep (s) from the device's sample counter at its telemetry rate when the recording
+    has both (the device's clock spaces the samples; the host's stamps jitter), else the host stamps."""
+    rate = float((device.identity or {}).get("telemetry_rate_hz") or 0.0)
+    counter = device.channels.get("counter")
+    if rate > 0.0 and counter is not None and len(counter) == len(keep):
+        c = np.asarray(counter, dtype=np.int64)[keep]
+        return (c - c[0]).astype(float) / rate
+    t = device.channels["time_s"][keep]
+    return t - t[0]
+
+
 def _subject_block(subject: dict[str, Any] | None) -> dict[str, Any]:
     return {k: v for k, v in (subject or {}).items() if v is not None}
 
@@ -69,10 +116,11 @@ def trial_table(trial: TrialFile, subject: dict[str, Any] | None = None) -> Tria
         keep = (t >= (t0 if t0 is not None else -np.inf)) & (t <= (t1 if t1 is not None else np.inf))
         if not keep.any():
             raise ExportError(f"{trial.path}: no dynamometer samples inside the sweep")
+        keep = _movement(keep, d["velocity_rad_s"], _sweep_speed_rad_s(trial))
         angle = np.rad2deg(d["position_rad"][keep])
         torque = d["torque_nm"][keep] + arm_gravity_moment_nm(
             name, angle, cond["arm_mass_kg"], cond["arm_com_m"], cond.get("knee_flexion_deg", 0.0))
-        cols = {"time_s": t[keep] - t[keep][0], "angle_deg": angle, "torque_Nm": torque,
+        cols = {"time_s": _device_time_s(trial.devices["dynamometer"], keep), "angle_deg": angle, "torque_Nm": torque,
                 "velocity_deg_s": np.rad2deg(d["velocity_rad_s"][keep])}
         fixed = {"hip_flexion_deg": cond["hip_flexion_deg"],
                  "knee_flexion_deg": cond.get("knee_flexion_deg"),

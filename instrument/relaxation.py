@@ -86,8 +86,10 @@ class RelaxationMonitor:
         raised = []
         for t, a, q in zip(np.atleast_1d(time_s), np.atleast_1d(angle_deg), np.atleast_1d(torque_nm)):
             t, a, q = float(t), float(a), float(q)
-            if self._t and t - self._t[0] > self.window_s * 4:
-                self._reset_window()  # a pause (or the end of an alarm): start the passive model afresh
+            if self._t and t - self._t[-1] > self.window_s:
+                # a pause, or the end of an alarm's hold-off (nothing was kept meanwhile): the window
+                # describes where the limb was, not where it is; start the passive model afresh
+                self._reset_window()
             warm = len(self._t) >= 10 and (t - self._t[0]) >= 0.8 * self.window_s and len(self._abs_err) >= 30
             pred = self._predict(a)
             err = 0.0 if pred is None else q - pred

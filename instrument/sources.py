@@ -7,11 +7,13 @@ it can make the relaxed subject activate a muscle (a burst of known size, for dr
 
 from __future__ import annotations
 
+import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import Any
 
 from drivers import StreamingDevice
+from drivers.dynamometer.protocol import State
 from drivers.simulation.lab import SimulatedLab
 from drivers.simulation.seated_leg import Burst
 
@@ -43,12 +45,21 @@ class SimulatedSource:
     def metadata(self) -> dict[str, Any]:
         return simulation_metadata(self.lab) if self.lab is not None else {}
 
-    def inject_burst(self, amplitude_nm: float, delay_s: float = 0.3, duration_s: float = 0.4) -> None:
-        """Make the simulated subject activate (a half-sine torque burst) ``delay_s`` from now."""
+    def inject_burst(self, amplitude_nm: float, delay_s: float = 0.3, duration_s: float = 0.4, *,
+                     at_movement_s: float | None = None) -> None:
+        """Make the simulated subject activate (a half-sine torque burst of ``amplitude_nm`` N·m lasting
+        ``duration_s`` s): ``delay_s`` from now, or ``at_movement_s`` s into the arm's current movement
+        (counted in the device's ticks: the same angle and phase in every run)."""
         if self.lab is None:
             raise ProtocolError("no simulated trial is running")
         dyno = self.lab.dynamometer
-        dyno.leg.bursts.append(Burst(start_s=dyno.time_s + delay_s, amplitude_nm=amplitude_nm, duration_s=duration_s))
+        # the sweep is announced when its START is sent: wait (briefly) for the arm to take it, so that
+        # the burst is timed in this movement and not the one before
+        deadline = time.monotonic() + 2.0
+        while dyno.state != State.MOVING and time.monotonic() < deadline:
+            time.sleep(0.001)
+        start = at_movement_s if at_movement_s is not None else dyno.movement_time_s + delay_s
+        dyno.leg.bursts.append(Burst(start_s=start, amplitude_nm=amplitude_nm, duration_s=duration_s))
 
 
 class HardwareSource:

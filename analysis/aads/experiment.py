@@ -60,7 +60,10 @@ class AadsExperiment:
         for r in self.results:
             s = r.summary()
             fit = r.stiffness.fits.get(r.stiffness.reported_branch)
-            lines.append(f"{Path(r.source).name[:27]:<28}{str(s.get('spring', '')):>7}{str(s.get('operator', '')):>6}"
+            # a store's trial by its id (its file name is a random token); a file by its name
+            label = (f"trial {r.factors['store_trial_id']}" if r.factors.get("store_trial_id") is not None
+                     else Path(r.source).name[:27])
+            lines.append(f"{label:<28}{str(s.get('spring', '')):>7}{str(s.get('operator', '')):>6}"
                          f"{str(s.get('trial', '')):>3}{s['stiffness_nm_per_deg']:>10.3f}"
                          f"{(fit.r_squared if fit else float('nan')):>7.3f}{s['theoretical_stiffness_nm_per_deg']:>8.3f}"
                          f"{r.stiffness.peak_angle_deg:>8.1f}{r.stiffness.frames_past_stop:>6}"

@@ -120,7 +120,11 @@ def analyze_trial(trial: MotionTrial, model: JigModel, *, spring_n_per_m: float 
     kin = aads_kinematics(trial, model)
     plate = plate_at_markers(trial, kin.time_s, model.filter_cutoff_hz)
     flags = list(kin.flags)
-    lost = int(np.sum(kin.valid & ~plate.valid))
+    # frames the plate's recording does not span (the two devices start and stop a few ms apart) are
+    # not gaps: they are left out without a flag
+    tp = np.asarray(trial.plate_time_s, dtype=float)
+    spanned = (kin.time_s >= tp[0]) & (kin.time_s <= tp[-1]) if tp.size else np.zeros_like(kin.valid)
+    lost = int(np.sum(kin.valid & ~plate.valid & spanned))
     if lost:
         flags.append(f"{lost} posed frames have no plate wrench (gaps or a centre of pressure missing); left out")
     eq = jig_equations(kin, plate, model)

@@ -94,13 +94,15 @@ def cohort_figure(summaries: list[dict[str, Any]]) -> Any:
     return fig
 
 
-def text(summaries: list[dict[str, Any]], engine: dict[str, Any] | None = None) -> str:
-    """The cohort's report as text: Table 3.3, determined parameters with intervals, coverage if known."""
+def text(summaries: list[dict[str, Any]], engine: dict[str, Any] | None = None, *, timings: bool = True) -> str:
+    """The cohort's report as text: Table 3.3, determined parameters with intervals, coverage if known
+    (``timings=False`` leaves out the wall time, the host's and not the data's)."""
     lines = []
     if engine:
+        took = f" in {engine['wall_s']:.1f} s" if timings else ""
         lines.append(f"{engine['subjects']} subjects, {engine['solves']} solves ({engine['solved_now']} now, "
                      f"{engine['read_back']} read back from the store, {len(engine['failed'])} failed) on "
-                     f"{engine['scheduler']} in {engine['wall_s']:.1f} s")
+                     f"{engine['scheduler']}{took}")
         for f in engine["failed"]:
             lines.append(f"  FAILED {f}")
         for f in engine.get("left_out", []):

@@ -129,10 +129,12 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
             "forward_dynamics": fd, "leg": leg, "shank_length_m": subject.shank_length_m, "model_diagnosis": model}
 
 
-def text(report: dict[str, Any]) -> str:
+def text(report: dict[str, Any], *, timings: bool = True) -> str:
+    """The fit's report as text; ``timings=False`` leaves out the solve time (the host's, not the data's)."""
     res: PmpResult = report["result"]
     idf = report["identifiability"]
-    head = (f"fit: {res.status}, {res.iterations} iterations, {res.solve_time_s:.1f} s, cost {res.cost:.3f}" if res.success
+    took = f"{res.solve_time_s:.1f} s, " if timings else ""
+    head = (f"fit: {res.status}, {res.iterations} iterations, {took}cost {res.cost:.3f}" if res.success
             else f"fit DID NOT CONVERGE: {res.message}; the values below are the last iterate, not estimates")
     lines = [head, f"residual {idf['residual_rms_nm']:.3g} N·m RMS against measurement noise {idf['noise_nm']:.3g} "
                    f"N·m ({idf['misfit_ratio']:.1f}×; {idf['effective_samples']:.0f} effective of {idf['samples']} "

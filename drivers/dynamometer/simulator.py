@@ -228,15 +228,23 @@ class DynamometerSimulator:
             self.velocity_deg_s = 0.0
         self.acceleration = (self.velocity_deg_s - v_old) / dt if dt > 0 else 0.0
 
-    def torque_nm(self, t_s: float) -> float:
-        tau = float(self.leg.shaft_torque_nm(np.array([t_s]), np.array([self.position_deg]),
+    @property
+    def movement_time_s(self) -> float:
+        """Time (s) counted in telemetry ticks from the last accepted START's first tick (from power-up
+        before any): the subject's clock, so what the subject does in a movement (an activation burst
+        1.2 s in) happens at the same tick, angle and phase in every run, however the host is timed."""
+        return (self.counter - self._noise_origin) / self.rate_hz
+
+    def torque_nm(self) -> float:
+        """Shaft torque of this tick (N·m): the leg's at the arm's state, plus the sensor's noise."""
+        tau = float(self.leg.shaft_torque_nm(np.array([self.movement_time_s]), np.array([self.position_deg]),
                                              np.array([self.velocity_deg_s]), np.array([self.acceleration]))[0])
         return tau + self.noise_nm * self.faults.noise_scale * float(self._noise[(self.counter - self._noise_origin) % (1 << 16)])
 
     def _telemetry(self, now: float, t_stream: float) -> None:
         c = self.faults
         self.counter += 1
-        tau = self.torque_nm(now)
+        tau = self.torque_nm()
         if self.state not in (p.State.ESTOP, p.State.FAULT) and abs(tau) > self.torque_limit_nm:
             self._latch(p.State.FAULT, p.Fault.TORQUE_LIMIT, f"torque {tau:.1f} N·m over limit")
         if c.silent_at(t_stream) or self._vanished(t_stream):

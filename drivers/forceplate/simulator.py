@@ -206,6 +206,8 @@ class ForcePlateSimulator:
         if silent:
             return
         counts = p.counts_from_loads(self.loads_at(counters), self.info)
+        # the trigger input: the camera system's sync output, one pulse a second on its frame 0, 100, ...
+        # (plate and cameras share a time origin, so that is plate sample 0, 1000, ...)
         trigger = (counters % self.rate_hz) == 0
         out = bytearray()
         for c, row, trig in zip(counters.tolist(), counts, trigger.tolist()):

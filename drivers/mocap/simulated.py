@@ -60,5 +60,8 @@ class SimulatedMarkerStream(MarkerStream):
 
     def identity(self) -> dict[str, Any]:
         d = super().identity()
-        d.update(source=self.source, rate_hz=self.rate_hz, labels=list(self.labels), units="m")
+        # its sync output, wired to the force plate amplifier's trigger input: a pulse on every frame
+        # whose counter is a multiple of this (once a second)
+        d.update(source=self.source, rate_hz=self.rate_hz, labels=list(self.labels), units="m",
+                 sync_pulse_every_frames=int(self.rate_hz))
         return d

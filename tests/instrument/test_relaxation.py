@@ -32,3 +32,16 @@ def test_relaxed_trials_raise_no_alarm() -> None:
     rng = np.random.default_rng(78)
     flagged = sum(bool(run(*trial(int(rng.integers(1 << 30)), None)[:3]).alarms) for _ in range(20))
     assert flagged == 0
+
+
+def test_one_burst_raises_one_alarm() -> None:
+    """After a burst's hold-off the passive model restarts from where the limb is, not from the
+    window before the burst (which, a second later and degrees away, raised a second, false alarm)."""
+    rng = np.random.default_rng(79)
+    counts = []
+    for _ in range(12):
+        t, angle, torque, burst = trial(int(rng.integers(1 << 30)), float(rng.uniform(2.0, 5.0)))
+        mon = run(t, angle, torque)
+        counts.append(len(mon.alarms))
+        assert all(a.time_s >= burst.start_s for a in mon.alarms)
+    assert counts == [1] * 12, counts
