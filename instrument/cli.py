@@ -9,6 +9,7 @@ import math
 import sys
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 from drivers.dynamometer import DEFAULT_LIMITS
 from drivers.errors import DriverError, LimitViolationError
@@ -89,6 +90,9 @@ def build_parser() -> argparse.ArgumentParser:
     afo.add_argument("--out", type=Path, default=Path("afo_report"), help="folder for the JSON report and PNG plots")
     afo.add_argument("--json", action="store_true", help="print the JSON report instead of the tables")
     afo.add_argument("--recompute", action="store_true", help="analyse again even if the store holds this analysis")
+    afo.add_argument("--diagnose-model", action="store_true",
+                     help="also diagnose the AFO model across the trials (hinge friction, shell compliance, axis "
+                          "misalignment; each trial left out once; needs >= 3 trials of one AFO with the spring hooks)")
 
     dia = sub.add_parser("diagnose", help="what the model of a trial gets wrong, and why")
     dia.add_argument("file", type=Path, help="a store trial id, a trial CSV (with its .json sidecar) or an "
@@ -301,11 +305,31 @@ def cmd_analyze(args: argparse.Namespace) -> int:
                                 model=model)
         experiment = analyze_afo(inputs, model)
         files = write_report(experiment, args.out, model.fit_window_deg)
-        return {"json": json.loads(files[0].read_text()), "text": experiment.text(), "files": [str(f) for f in files],
-                "exit_code": 0 if experiment.results and not experiment.failed else 1}
+        payload = {"json": json.loads(files[0].read_text()), "text": experiment.text(), "files": [str(f) for f in files],
+                   "exit_code": 0 if experiment.results and not experiment.failed else 1}
+        if args.diagnose_model:
+            payload["json"]["model_diagnosis"], line = _afo_model_diagnosis(experiment, model.fit_window_deg)
+            payload["text"] += "\n\n" + line
+        return payload
 
-    return _show(args, _remember(args, "afo_set", {"spring": args.spring, "spring_n_per_m": args.spring_n_per_m},
-                                 compute))
+    settings = {"spring": args.spring, "spring_n_per_m": args.spring_n_per_m}
+    if args.diagnose_model:
+        settings["diagnose_model"] = True
+    return _show(args, _remember(args, "afo_set", settings, compute))
+
+
+def _afo_model_diagnosis(experiment: Any, window_deg: tuple[float, float]) -> tuple[dict[str, Any] | None, str]:
+    """The AFO model-level diagnosis of an analysed set: (its JSON or ``None``, its text or why not)."""
+    from analysis.diagnosis.aads_model import AfoTrialData, diagnose_afo_model
+    from analysis.errors import AnalysisError
+
+    with_theory = [r for r in experiment.results if r.theory is not None]
+    try:
+        d = diagnose_afo_model([AfoTrialData.from_result(r, Path(r.source).name) for r in with_theory],
+                               window_deg=window_deg)
+    except AnalysisError as err:
+        return None, f"AFO model-level diagnosis not run: {err}"
+    return d.as_dict(), d.text()
 
 
 def _store(path: Path | None, read_only: bool = False, reading: bool = False):  # noqa: ANN202
