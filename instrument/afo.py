@@ -50,3 +50,18 @@ def resolve_trials(specs: Sequence[str], store: SessionStore | None, *, spring: 
 def analyze_afo(inputs: Sequence[TrialInput], model: JigModel) -> AadsExperiment:
     """Run the AADS analysis over ``inputs``."""
     return analyze_experiment(inputs, model)
+
+
+def afo_model_diagnosis(experiment: AadsExperiment, window_deg: tuple[float, float]) -> tuple[dict[str, Any] | None, str]:
+    """The AFO model-level diagnosis of an analysed set (one AFO's trials, each left out once):
+    (its JSON, or ``None`` when it cannot run; its text, or one line saying why not)."""
+    from analysis.diagnosis.aads_model import AfoTrialData, diagnose_afo_model
+    from analysis.errors import AnalysisError
+
+    with_theory = [r for r in experiment.results if r.theory is not None]
+    try:
+        d = diagnose_afo_model([AfoTrialData.from_result(r, Path(r.source).name) for r in with_theory],
+                               window_deg=window_deg)
+    except AnalysisError as err:
+        return None, f"AFO model-level diagnosis not run: {err}"
+    return d.as_dict(), d.text()

@@ -23,14 +23,17 @@ def _aads_set(protocol: Any, store: SessionStore, same: list[TrialRecord], subje
                 "motion-capture system and run `instrument analyze afo FILE.c3d`.")
     from analysis.aads.model import load_jig_model
 
-    from .afo import analyze_afo, resolve_trials
+    from .afo import afo_model_diagnosis, analyze_afo, resolve_trials
 
     model = load_jig_model()
-    ids = [str(t.id) for t in same if t.condition.get("spring") == protocol.spring]
-    exp = analyze_afo(resolve_trials(ids, store, model=model), model)
-    k = [r.stiffness_nm_per_deg for r in exp.results]
-    return (f"spring {protocol.spring}: {len(k)} accepted trial(s), stiffness "
+    every = analyze_afo(resolve_trials([str(t.id) for t in same], store, model=model), model)
+    k = [r.stiffness_nm_per_deg for r in every.results if r.factors.get("spring") == protocol.spring]
+    line = (f"spring {protocol.spring}: {len(k)} accepted trial(s), stiffness "
             f"{np.nanmean(k):.3f} ± {np.nanstd(k):.3f} N·m/° (fit {model.fit_window_deg[0]:g}–{model.fit_window_deg[1]:g}°)")
+    # the session's AFO, all its springs: what its spring model misses, once a trial can be left out
+    if len(every.results) < 3:
+        return line + f"\nAFO model-level diagnosis: from 3 accepted trials of this AFO (has {len(every.results)})"
+    return line + "\n" + afo_model_diagnosis(every, model.fit_window_deg)[1]
 
 
 def _tables(store: SessionStore, same: list[TrialRecord]) -> list[Any]:

@@ -9,7 +9,6 @@ import math
 import sys
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
 
 from drivers.dynamometer import DEFAULT_LIMITS
 from drivers.errors import DriverError, LimitViolationError
@@ -289,7 +288,7 @@ def cmd_analyze(args: argparse.Namespace) -> int:
     from analysis.aads.experiment import write_report
     from analysis.aads.model import load_jig_model
 
-    from .afo import analyze_afo, resolve_trials
+    from .afo import afo_model_diagnosis, analyze_afo, resolve_trials
 
     if args.kind == "pmp":
         return cmd_analyze_pmp(args)
@@ -308,7 +307,7 @@ def cmd_analyze(args: argparse.Namespace) -> int:
         payload = {"json": json.loads(files[0].read_text()), "text": experiment.text(), "files": [str(f) for f in files],
                    "exit_code": 0 if experiment.results and not experiment.failed else 1}
         if args.diagnose_model:
-            payload["json"]["model_diagnosis"], line = _afo_model_diagnosis(experiment, model.fit_window_deg)
+            payload["json"]["model_diagnosis"], line = afo_model_diagnosis(experiment, model.fit_window_deg)
             payload["text"] += "\n\n" + line
         return payload
 
@@ -317,19 +316,6 @@ def cmd_analyze(args: argparse.Namespace) -> int:
         settings["diagnose_model"] = True
     return _show(args, _remember(args, "afo_set", settings, compute))
 
-
-def _afo_model_diagnosis(experiment: Any, window_deg: tuple[float, float]) -> tuple[dict[str, Any] | None, str]:
-    """The AFO model-level diagnosis of an analysed set: (its JSON or ``None``, its text or why not)."""
-    from analysis.diagnosis.aads_model import AfoTrialData, diagnose_afo_model
-    from analysis.errors import AnalysisError
-
-    with_theory = [r for r in experiment.results if r.theory is not None]
-    try:
-        d = diagnose_afo_model([AfoTrialData.from_result(r, Path(r.source).name) for r in with_theory],
-                               window_deg=window_deg)
-    except AnalysisError as err:
-        return None, f"AFO model-level diagnosis not run: {err}"
-    return d.as_dict(), d.text()
 
 
 def _store(path: Path | None, read_only: bool = False, reading: bool = False):  # noqa: ANN202

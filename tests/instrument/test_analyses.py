@@ -51,3 +51,31 @@ def test_an_activation_the_live_check_let_through_is_explained_not_contradicted(
     start = g.details["burst_start_s"]
     assert f"{d.parameters['burst_start_s']:.1f}" in line and abs(d.parameters["burst_start_s"] - start) < 1.0
     assert live_check_agreement(diagnose(as_trial(generate("knee", (), 500)))) == ""
+
+
+@pytest.mark.timeout(600)
+def test_an_aads_set_of_three_springs_gets_the_afo_model_level_diagnosis(tmp_path: Path) -> None:
+    """After the third accepted AADS trial of the session's AFO, the set analysis diagnoses the AFO
+    model across its springs (the simulated AFO has hinge friction and a compliant shell)."""
+    from instrument.protocols import AadsProtocol
+    from instrument.store import Subject
+
+    store = SessionStore(tmp_path / "store")
+    store.add_subject(Subject("AFO1", mass_kg=70.0))
+    session = store.new_session("AFO1", operator="op")
+    ids = []
+    for spring in (1, 2, 3):
+        proto = AadsProtocol(spring=spring, operator=3, trial=1, duration_s=6.0)
+        with simulated_devices(proto, lab_config_for(proto, seed=spring)) as (_, devices):
+            outcome = record_trial(store, session, proto, devices, operator="op", trial_number=1)
+        store.set_status(outcome.trial_id, "accepted")
+        ids.append(outcome.trial_id)
+        if spring == 2:  # two trials: not yet, and said so
+            store.close()
+            text = analyse_set(AadsProtocol(spring=2), tmp_path / "store", ids[1], {"mass_kg": 70.0})
+            assert "AFO model-level diagnosis: from 3 accepted trials of this AFO (has 2)" in text
+            store = SessionStore(tmp_path / "store")
+    store.close()
+    text = analyse_set(AadsProtocol(spring=3), tmp_path / "store", ids[2], {"mass_kg": 70.0})
+    assert text.startswith("spring 3: 1 accepted trial(s), stiffness")
+    assert "AFO model-level diagnosis (held-out across 3 trials): hinge_friction" in text, text
