@@ -2,7 +2,8 @@
 
 For each seed, one AFO's imperfections are drawn — none, hinge friction (0.1–0.4 N·m plus 4–10 %
 of the spring torque), a compliant shell (8–20 N·m/°), both, or the markers' plane off the hinge
-axis (the angle scaled by 4–10 %, either way) — and the same AFO is bent with the three springs by
+axis (the angle scaled by 4–10 %, either way), or its hinge stop misadjusted to 14–18° (1–3 N·m/°) —
+and the same AFO is bent with the three springs by
 operators 3 and 4 (six trials, sampled from ``drivers.simulation.aads_jig``, which the diagnosis
 does not share, and analysed by the AADS pipeline). :func:`analysis.diagnosis.aads_model.diagnose_afo_model`
 then names what the spring model misses.
@@ -26,7 +27,7 @@ import numpy as np
 
 from analysis.diagnosis.aads_model import AfoTrialData, diagnose_afo_model
 
-CASES = ("none", "hinge_friction", "shell_compliance", "both", "axis_misalignment")
+CASES = ("none", "hinge_friction", "shell_compliance", "both", "axis_misalignment", "early_stop")
 
 
 def _trials(afo: Any, seed: int, angle_scale: float) -> list[AfoTrialData]:
@@ -63,6 +64,9 @@ def run(quick: bool = False) -> dict[str, Any]:
                                 hinge_friction_coeff=float(rng.uniform(0.04, 0.1)) if friction else 0.0,
                                 shell_stiffness_nm_per_deg=float(rng.uniform(8.0, 20.0)) if shell else 1e9)
             scale = float(rng.choice([-1.0, 1.0]) * rng.uniform(0.04, 0.1)) if case == "axis_misalignment" else 0.0
+            if case == "early_stop":  # a stop misadjusted into the fit window, as soft as 1–3 N·m/°
+                afo = replace(afo, stop_deg=float(rng.uniform(14.0, 18.0)),
+                              stop_stiffness_nm_per_deg=float(rng.uniform(1.0, 3.0)))
             truth: dict[str, float] = {}
             if friction:
                 truth = {"friction_Nm": afo.hinge_friction_nm, "friction_per_spring_torque": afo.hinge_friction_coeff}
@@ -70,6 +74,9 @@ def run(quick: bool = False) -> dict[str, Any]:
                 truth["compliance_deg_per_Nm"] = 1.0 / afo.shell_stiffness_nm_per_deg
             if scale:
                 truth["angle_scale_error"] = scale
+            if case == "early_stop":
+                truth = {"stop_angle_deg": float(afo.stop_deg or 0.0),
+                         "stop_stiffness_Nm_per_deg": afo.stop_stiffness_nm_per_deg}
             hidden = {"none": set(), "both": {"hinge_friction", "shell_compliance"}}.get(case, {case})
             trials = _trials(afo, seed, scale)
             t0 = time.perf_counter()

@@ -14,7 +14,9 @@ Extensions (``θ`` the marker angle, ``τ`` the SOP torque, ``ω`` the angular v
   the hinge (N·m and N·m per N·m of spring torque; the width ω_s fitted, 0.25–4 °/s);
 - ``shell_compliance``: the hinge turns by θ − c·τ, the shell bending by c·τ (c in °/N·m);
 - ``axis_misalignment``: the markers' plane off the hinge's axis turns the hinge by (1 + a)·θ
-  (a: the relative angle scale error).
+  (a: the relative angle scale error);
+- ``early_stop``: + k_s·max(θ − θ_s, 0), a hinge stop misadjusted to engage inside the fit window
+  (θ_s searched 8–20°, k_s ≥ 0 in N·m/°): the stiffness fit then reads the stop, not the spring.
 
 Selection is forward: the extension predicting the left-out trials best is named when it
 predicts every left-out trial better and the geometric mean of the RMSE ratios is below
@@ -42,15 +44,18 @@ EXTENSIONS: dict[str, str] = {
     "hinge_friction": "friction at the hinge, constant plus proportional to the spring load",
     "shell_compliance": "the shell bends under load: the hinge turns less than the markers say",
     "axis_misalignment": "the markers' plane is off the hinge's axis: the angle is scaled",
+    "early_stop": "the hinge stop engages inside the fit window: the AFO stiffens before its stop angle",
 }
 PARAMETERS: dict[str, tuple[str, ...]] = {
     "hinge_friction": ("friction_Nm", "friction_per_spring_torque", "friction_width_deg_s"),
     "shell_compliance": ("compliance_deg_per_Nm",),
     "axis_misalignment": ("angle_scale_error",),
+    "early_stop": ("stop_angle_deg", "stop_stiffness_Nm_per_deg"),
 }
 #: grids of the extensions that change the angle (a bounded refinement follows)
 COMPLIANCE_GRID_DEG_PER_NM = np.linspace(0.0, 0.3, 31)
 ANGLE_SCALE_GRID = np.linspace(-0.15, 0.15, 31)
+STOP_ANGLE_GRID_DEG = np.arange(8.0, 20.01, 0.5)
 PROTOCOL_TO_SEPARATE = {
     frozenset({"shell_compliance", "axis_misalignment"}):
         "bend springs of different stiffness: the shell's share grows with the load, a scale error does not",
@@ -98,6 +103,8 @@ class _Prepared:
         if "hinge_friction" in names:
             sign = np.tanh(self.omega / nl["hinge_friction"])
             cols += [sign, s * sign]
+        if "early_stop" in names:
+            cols.append(np.maximum(hinge - nl["early_stop"], 0.0))
         inside = (self.angle >= self.window[0]) & (self.angle <= self.window[1])
         return self.torque - s, np.column_stack(cols), inside
 
@@ -122,6 +129,8 @@ def _grids(names: tuple[str, ...]) -> list[dict[str, float]]:
         out = [{**o, "shell_compliance": float(c)} for o in out for c in COMPLIANCE_GRID_DEG_PER_NM]
     if "axis_misalignment" in names:
         out = [{**o, "axis_misalignment": float(a)} for o in out for a in ANGLE_SCALE_GRID]
+    if "early_stop" in names:
+        out = [{**o, "early_stop": float(a)} for o in out for a in STOP_ANGLE_GRID_DEG]
     return out
 
 
@@ -138,6 +147,8 @@ def _solve(trials: list[_Prepared], names: tuple[str, ...], nl: dict[str, float]
         ys.append(y[m])
     design, target = np.vstack(rows), np.concatenate(ys)
     coef, *_ = np.linalg.lstsq(design, target, rcond=None)
+    if "early_stop" in names and coef[-1] < 0.0:  # a stop resists: a pulling one is held at zero
+        coef = np.append(np.linalg.lstsq(design[:, :-1], target, rcond=None)[0], 0.0)
     r = target - design @ coef
     return float(r @ r), coef[len(trials):len(trials) + n_shared]
 
@@ -155,7 +166,8 @@ def _fit(trials: list[_Prepared], names: tuple[str, ...]) -> tuple[float, dict[s
             best = (rss, nl)
     nl = dict(best[1])
     steps = {"shell_compliance": float(np.diff(COMPLIANCE_GRID_DEG_PER_NM)[0]),
-             "axis_misalignment": float(np.diff(ANGLE_SCALE_GRID)[0])}
+             "axis_misalignment": float(np.diff(ANGLE_SCALE_GRID)[0]),
+             "early_stop": float(np.diff(STOP_ANGLE_GRID_DEG)[0])}
     for _ in range(2 if len(nl) > 1 else 1):
         for key in list(nl):
             if key == "hinge_friction":  # the width between its grid neighbours (a factor of 2 apart)
@@ -188,6 +200,8 @@ def _named_parameters(names: tuple[str, ...], nl: dict[str, float], shared: np.n
         out["compliance_deg_per_Nm"] = nl["shell_compliance"]
     if "axis_misalignment" in names:
         out["angle_scale_error"] = nl["axis_misalignment"]
+    if "early_stop" in names:
+        out["stop_angle_deg"], out["stop_stiffness_Nm_per_deg"] = nl["early_stop"], float(shared[-1])
     return out
 
 
@@ -280,6 +294,8 @@ def _stiffness_error_pct(trials: list[AfoTrialData], names: tuple[str, ...], par
             a = a - params["compliance_deg_per_Nm"] * t.torque_nm[ok]
         if "axis_misalignment" in names:
             a = a * (1.0 + params["angle_scale_error"])
+        if "early_stop" in names:
+            tq = tq - params["stop_stiffness_Nm_per_deg"] * np.maximum(a - params["stop_angle_deg"], 0.0)
         load = (a >= window[0]) & (a <= window[1]) & (v > min_speed_deg_s)
         errs.append(100.0 * (line_fit(a[load], tq[load], window).slope_nm_per_deg / k_theory - 1.0))
     return float(np.mean(errs))

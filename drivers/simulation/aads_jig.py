@@ -72,6 +72,8 @@ class AfoProperties:
     shell_stiffness_nm_per_deg: float = 10.0  # a very large value (1e9) switches compliance off
     stop_stiffness_nm_per_deg: float = 3.0
     friction_velocity_rad_s: float = 0.02
+    #: where this AFO's hinge stop engages (°); ``None``: the jig's (21°). A misadjusted stop engages early
+    stop_deg: float | None = None
 
 
 @dataclass
@@ -184,7 +186,8 @@ class AadsJig:
         spring_torque = force * arm
         friction = (a.hinge_friction_nm + a.hinge_friction_coeff * spring_torque) * np.tanh(
             hinge_rate_rad_s / a.friction_velocity_rad_s)
-        over = np.maximum(np.rad2deg(hinge_rad) - self.geometry.stop_deg, 0.0)
+        stop_deg = a.stop_deg if a.stop_deg is not None else self.geometry.stop_deg
+        over = np.maximum(np.rad2deg(hinge_rad) - stop_deg, 0.0)
         stop = a.stop_stiffness_nm_per_deg * over
         return spring_torque + friction + stop, spring_torque
 

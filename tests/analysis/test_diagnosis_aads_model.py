@@ -53,6 +53,25 @@ def test_an_ideal_afo_is_said_to_fit_to_the_noise() -> None:
     assert abs(d.stiffness_error_raw_pct) < 0.5
 
 
+@pytest.mark.timeout(300)
+def test_a_stop_misadjusted_into_the_fit_window_is_named_where_it_engages() -> None:
+    """The hinge stop set to engage at 14–18° (soft, 1–3 N·m/°) on an AFO without friction or shell
+    compliance: the stiffness fit reads the stop; the diagnosis names it, its angle and stiffness."""
+    from drivers.simulation.aads_jig import AfoProperties
+
+    rng = np.random.default_rng(23)
+    stop, stiffness = float(rng.uniform(14.0, 18.0)), float(rng.uniform(1.0, 3.0))
+    d = diagnose_afo_model(_trials(AfoProperties(hinge_friction_nm=0.0, hinge_friction_coeff=0.0,
+                                                 shell_stiffness_nm_per_deg=1e9, stop_deg=stop,
+                                                 stop_stiffness_nm_per_deg=stiffness)))
+    assert d.named == ["early_stop"], d.text()
+    found = next(c for c in d.candidates if c.names == ("early_stop",))
+    assert found.heldout_ratio < 0.5
+    assert abs(found.parameters["stop_angle_deg"] - stop) < 0.5
+    assert found.parameters["stop_stiffness_Nm_per_deg"] == pytest.approx(stiffness, rel=0.15)
+    assert abs(d.stiffness_error_raw_pct) > 5.0 > 0.5 > abs(d.stiffness_error_corrected_pct)
+
+
 def test_too_few_trials_or_no_theory_is_a_typed_error() -> None:
     t = AfoTrialData(np.linspace(0, 20, 50), np.ones(50), np.linspace(0, 20, 50), np.linspace(0, 20, 50),
                      np.linspace(0, 20, 50))
