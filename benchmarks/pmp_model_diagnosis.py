@@ -4,7 +4,9 @@ One subject's parameters are drawn around Rajagopal 2016's, OpenSim computes the
 of the protocol's six sweeps twice (two repeats, different noise: :mod:`benchmarks.opensim_truth`),
 and one model-level effect, drawn from a seed, is added to the dynamometer torque: nothing, a
 torque offset per joint (arm-weight compensation), a limb-weight error (the limb heavier or
-lighter than the anthropometric tables say) or viscous damping. The model-level diagnosis
+lighter than the anthropometric tables say), viscous damping, or the knee's axis 1.5–2.5 cm off the
+dynamometer's (exact lever geometry with the pad sliding on the shank, OpenSim's knee moment
+reaching the arm by virtual work: not the estimator's first-order form). The model-level diagnosis
 (:func:`analysis.pmp.model_diagnosis.diagnose_model`) fits each candidate inside the estimator and
 judges it on the left-out repeats.
 
@@ -32,10 +34,31 @@ from analysis.pmp.muscles import LegMuscles, scale_for_subject
 from .opensim_truth import draw_truth, generic_parameters, limb_weight_nm, make_trials
 from .pmp_opensim import SHANK_M
 
-CANDIDATES = ["viscous_damping", "limb_mass_error", "torque_offset"]
+CANDIDATES = ["viscous_damping", "limb_mass_error", "torque_offset", "axis_misalignment"]
 #: the parameter each hidden effect is scored on
 SCORED = {"torque_offset": "knee_offset_Nm", "limb_mass_error": "limb_weight_error_fraction",
-          "viscous_damping": "damping_Nm_s_per_rad"}
+          "viscous_damping": "damping_Nm_s_per_rad", "axis_misalignment": "knee_axis_sin_rad"}
+#: where the dynamometer's pad sits on the shank, from the knee (m)
+PAD_LEVER_M = 0.30
+
+
+def misaligned_knee(t: Any, offset_m: float, direction_rad: float) -> PmpTrial:
+    """A knee trial as the dynamometer records it when its axis is ``offset_m`` from the knee's.
+
+    Exact lever geometry, not the estimator's first-order form: the arm turns by q about its own
+    axis O, its pad at PAD_LEVER_M from O, and the pad slides along the shank, which turns about the
+    knee J = O + offset·(cos φ, sin φ); the shank's angle is the direction from J to the pad,
+    atan2(L sin q − d sin φ, L cos q − d cos φ). The knee's torque (OpenSim's, at the knee angle)
+    reaches the arm by virtual work, × dq_knee/dq_arm. Samples whose knee angle falls outside the
+    computed sweep are dropped."""
+    q = t.angle_rad
+    d, phi, lever = offset_m, direction_rad, PAD_LEVER_M
+    knee = np.arctan2(lever * np.sin(q) - d * np.sin(phi), lever * np.cos(q) - d * np.cos(phi))
+    ratio = lever * (lever - d * np.cos(q - phi)) / (lever**2 + d**2 - 2 * lever * d * np.cos(q - phi))
+    order = np.argsort(q)
+    inside = (knee >= q.min()) & (knee <= q.max())
+    torque = np.interp(knee, q[order], t.torque_nm[order]) * ratio
+    return PmpTrial(t.joint, t.fixed_rad, t.time_s[inside], q[inside], t.velocity_rad_s[inside], torque[inside], t.name)
 MASS_KG, FOOT_M = 75.0, 0.26
 
 
@@ -45,7 +68,10 @@ def hide(made: list[Any], effect: str, rng: np.random.Generator) -> tuple[list[P
     truth = 0.0
     out = []
     size = {"torque_offset": rng.uniform(1.0, 2.0), "limb_mass_error": rng.uniform(0.10, 0.20),
-            "viscous_damping": rng.uniform(8.0, 16.0), "none": 0.0}[effect]
+            "viscous_damping": rng.uniform(8.0, 16.0), "axis_misalignment": rng.uniform(0.015, 0.025),
+            "none": 0.0}[effect]
+    # the offset's direction: mostly along the arm at full extension (where a sin-term shows), either way
+    direction = rng.uniform(-0.5, 0.5) + (np.pi if sign < 0 else 0.0)
     for t in made:
         extra = np.zeros_like(t.torque_nm)
         if effect == "torque_offset":  # u = I q̈ − M: the model's moment is off by −offset
@@ -57,6 +83,12 @@ def hide(made: list[Any], effect: str, rng: np.random.Generator) -> tuple[list[P
         elif effect == "viscous_damping":  # the dynamometer also overcomes b·q̇
             extra += size * t.velocity_rad_s
             truth = size
+        elif effect == "axis_misalignment":  # the knee's axis 1.5–2.5 cm off the dynamometer's
+            phi = float(direction)
+            truth = float(size / PAD_LEVER_M * np.cos(phi))  # the first-order sin coefficient
+            if t.joint == "knee":
+                out.append(misaligned_knee(t, size, phi))
+                continue
         out.append(PmpTrial(t.joint, t.fixed_rad, t.time_s, t.angle_rad, t.velocity_rad_s, t.torque_nm + extra, t.name))
     return out, truth
 
@@ -68,7 +100,8 @@ def run(quick: bool = False) -> dict[str, Any]:
     made = make_trials(truth_params, seed, shank_m=SHANK_M) + make_trials(truth_params, 100 + seed, shank_m=SHANK_M)
     subject = Subject(MASS_KG, SHANK_M, FOOT_M)
     leg = LegMuscles(length_scale=scale_for_subject(SHANK_M))
-    effects = ["none", "torque_offset"] if quick else ["none", "torque_offset", "limb_mass_error", "viscous_damping"]
+    effects = ["none", "torque_offset"] if quick else ["none", "torque_offset", "limb_mass_error", "viscous_damping",
+                                                       "axis_misalignment"]
     cases = []
     print(f"{'hidden':<18}{'truth':>9}  {'verdict':<10}{'fitted [95 % interval]':<30}{'covered':>8}{'ratio':>7}{'s':>6}")
     for i, effect in enumerate(effects):

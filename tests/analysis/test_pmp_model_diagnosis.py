@@ -71,3 +71,6 @@ def test_a_parameter_is_material_only_when_its_interval_excludes_zero_and_it_has
     assert not is_material(finding("limb_mass_error", "limb_weight_error_fraction", 0.15, -0.02, 0.32))
     assert is_material(finding("limb_mass_error", "limb_weight_error_fraction", 0.15, 0.08, 0.22))
     assert is_material(finding("torque_offset", "knee_offset_Nm", -1.6, -2.7, -0.5))
+    # a misalignment below what a lab can set (the clean OpenSim trials' 1.4 mm); a 2 cm offset is one
+    assert not is_material(finding("axis_misalignment", "knee_axis_cos_rad", -0.0045, -0.0055, -0.0036))
+    assert is_material(finding("axis_misalignment", "knee_axis_sin_rad", 0.075, 0.067, 0.082))
