@@ -74,3 +74,38 @@ def test_a_parameter_is_material_only_when_its_interval_excludes_zero_and_it_has
     # a misalignment below what a lab can set (the clean OpenSim trials' 1.4 mm); a 2 cm offset is one
     assert not is_material(finding("axis_misalignment", "knee_axis_cos_rad", -0.0045, -0.0055, -0.0036))
     assert is_material(finding("axis_misalignment", "knee_axis_sin_rad", 0.075, 0.067, 0.082))
+
+
+@pytest.mark.timeout(900)
+def test_a_knee_axis_offset_in_trials_opensim_made_is_named_with_intervals_holding_it() -> None:
+    """OpenSim's passive moments (an independent model, in a subprocess), the knee's axis 1.5–2.5 cm off
+    the dynamometer's by exact lever geometry (benchmarks/pmp_model_diagnosis): the diagnosis names
+    the misalignment, predicts both left-out repeats better, and its first-order coefficients are
+    the geometry's."""
+    from analysis.pmp.estimator import PmpTrial, Subject
+    from analysis.pmp.muscles import scale_for_subject
+    from benchmarks.opensim_truth import draw_truth, generic_parameters, make_trials
+    from benchmarks.pmp_model_diagnosis import FOOT_M, MASS_KG, PAD_LEVER_M, misaligned_knee
+    from benchmarks.pmp_opensim import SHANK_M
+    from tests.opensim_reference import have_opensim
+
+    if not have_opensim():
+        pytest.skip("OpenSim (in the test extra) is the independent reference")
+    rng = np.random.default_rng(5)
+    offset, direction = float(rng.uniform(0.015, 0.025)), float(rng.uniform(-0.5, 0.5))
+    truth = draw_truth(2, generic_parameters())
+    made = make_trials(truth, 2, shank_m=SHANK_M) + make_trials(truth, 102, shank_m=SHANK_M)
+    trials = [misaligned_knee(t, offset, direction) if t.joint == "knee" else
+              PmpTrial(t.joint, t.fixed_rad, t.time_s, t.angle_rad, t.velocity_rad_s, t.torque_nm, t.name) for t in made]
+    d = diagnose_model(trials, Subject(MASS_KG, SHANK_M, FOOT_M), leg=LegMuscles(length_scale=scale_for_subject(SHANK_M)),
+                       intervals=8, candidates=["axis_misalignment"])
+    assert d.cause == "axis_misalignment", d.text()
+    found = next(c for c in d.candidates if c.name == "axis_misalignment")
+    assert found.heldout_ratio < 0.9 and found.every_fold_better
+    # the first-order coefficients of the exact geometry, within a tenth of the offset's (d/L); the
+    # jackknife intervals over two repeats carry the noise only, not the second-order terms the
+    # first-order form leaves out ((d/L)²/2 ≈ 0.003 rad), so they are not asserted to hold it here
+    # (on benchmarks/pmp_model_diagnosis's case they do)
+    for key, value in (("knee_axis_sin_rad", offset / PAD_LEVER_M * np.cos(direction)),
+                       ("knee_axis_cos_rad", -offset / PAD_LEVER_M * np.sin(direction))):
+        assert abs(found.parameters[key] - value) < 0.1 * offset / PAD_LEVER_M, (key, value, found.parameters[key])
