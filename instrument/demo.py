@@ -362,8 +362,9 @@ def replica_leg(out: Path) -> tuple[dict[str, Any], bool]:
         print(f"  PROBLEM: {err}")
         return {"error": str(err)}, False
     print("  " + text(result, truth).replace("\n", "\n  "))
-    print("  (the only figures here that move from run to run: the torque sensor is polled, so which noisy samples "
-          "fall in each hold depends on the host's timing; they move inside their intervals)")
+    print("  (these figures and the replica trial's diagnosis line are the demo's only ones that move from run to "
+          "run: the torque sensor is polled, so which noisy samples fall in each hold depends on the host's timing; "
+          "they move inside their intervals)")
     return to_json(result, truth), True
 
 
