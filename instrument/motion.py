@@ -42,6 +42,10 @@ def _synchronised_times(markers: dict[str, np.ndarray], mocap_identity: dict[str
     if every <= 0 or mk_rate <= 0 or fp_rate <= 0 or not {"counter", "trigger"} <= set(plate) \
             or "counter" not in markers or len(markers["counter"]) == 0:
         return None
+    n_plate = len(plate["counter"])
+    if len(plate["trigger"]) != n_plate or len(plate["time_s"]) != n_plate \
+            or len(markers["counter"]) != len(markers["time_s"]):
+        return None  # channels of unequal length (a damaged file): the stamps, which the resampler checks
     trig = np.asarray(plate["trigger"]).astype(bool)
     rises = np.flatnonzero(trig[1:] & ~trig[:-1]) + 1
     if rises.size == 0:

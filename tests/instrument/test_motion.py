@@ -69,3 +69,10 @@ def test_host_clocks_too_far_apart_to_pick_the_pulse_fall_back_to_the_stamps() -
     # 0.4 s apart: the pulse could be this frame's or the next second's; no guess
     trial = motion_from_channels(*_channels(20, 150, 0.4))
     assert _plate_error_n(trial, 20) > 1.0
+
+
+def test_a_trigger_channel_of_the_wrong_length_falls_back_to_the_stamps() -> None:
+    markers, mocap_id, plate, plate_id = _channels(20, 150, 0.002)
+    plate["trigger"] = plate["trigger"][:-7]  # a damaged file: the channels disagree
+    trial = motion_from_channels(markers, mocap_id, plate, plate_id)
+    assert trial.plate_time_s.size > 0 and _plate_error_n(trial, 20) > 0.1  # host stamps, 2 ms late
