@@ -237,7 +237,12 @@ class AfoModelDiagnosis:
                  f"  {'model':<36}{'held-out RMSE':>15}{'ratio':>8}  parameters (95 % jackknife interval)",
                  f"  {'spring only':<36}{self.plain_heldout_rmse_nm:>11.3f} N·m{1.0:>8.2f}"]
         for c in self.candidates:
-            ps = ", ".join(f"{k} = {v:.3g} [{c.ci95[k][0]:.3g}, {c.ci95[k][1]:.3g}]" for k, v in c.parameters.items())
+            # a stop held at zero stiffness has no angle to report
+            shown = {k: v for k, v in c.parameters.items()
+                     if not (k == "stop_angle_deg" and c.parameters.get("stop_stiffness_Nm_per_deg") == 0.0)}
+            ps = ", ".join(f"{k} = {v:.3g} [{c.ci95[k][0]:.3g}, {c.ci95[k][1]:.3g}]" for k, v in shown.items())
+            if len(shown) < len(c.parameters):
+                ps += " (no stop engages in the window)"
             lines.append(f"  {' + '.join(c.names):<36}{c.heldout_rmse_nm:>11.3f} N·m{c.heldout_ratio:>8.2f}  {ps}")
         lines.append(f"  loading-branch stiffness error against the spring: {self.stiffness_error_raw_pct:+.1f} % raw, "
                      f"{self.stiffness_error_corrected_pct:+.1f} % with the named effects removed")
