@@ -37,7 +37,12 @@ def test_hinge_friction_and_shell_compliance_hidden_together_are_both_named_with
     assert found.heldout_ratio < 0.5
     assert found.parameters["friction_per_spring_torque"] == pytest.approx(mu, rel=0.15)
     assert found.parameters["friction_Nm"] == pytest.approx(friction, rel=0.15)
-    assert found.parameters["compliance_deg_per_Nm"] == pytest.approx(1.0 / shell, rel=0.15)
+    # the shell is read from the angles (hook against marker angle), not from a few per cent of stiffness:
+    # within 1 %, and its interval holds the truth (fitted through the torque it came out 2.6 % low on this
+    # draw; on seven draws 1.6–4.1 % low, the interval missing the truth in four, against 0.2–0.4 % high, all held)
+    assert found.parameters["compliance_deg_per_Nm"] == pytest.approx(1.0 / shell, rel=0.01)
+    lo, hi = found.ci95["compliance_deg_per_Nm"]
+    assert lo <= 1.0 / shell <= hi
     # the extension explains the stiffness error against the spring (as Table 2.1 would show it)
     assert abs(d.stiffness_error_corrected_pct) < 0.5 < abs(d.stiffness_error_raw_pct)
     assert "hinge_friction" in d.text() and "held-out" in d.text()
