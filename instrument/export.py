@@ -131,13 +131,27 @@ def trial_table(trial: TrialFile, subject: dict[str, Any] | None = None) -> Tria
                                  # the arm turns with the limb: its inertia is in the torque (its weight is not)
                                  "arm_inertia_kgm2": float(cond["arm_mass_kg"]) * float(cond["arm_com_m"]) ** 2})
     if name == "replica":
-        d = trial.devices["torque_sensor"].channels
+        sensor = trial.devices["torque_sensor"]
+        d = sensor.channels
         t = d["time_s"]
+        # a transmitter that numbers its samples: each hold is its conversions, taken by the counter
+        # and timed by its clock (the host's stamps of the same samples differ from run to run)
+        rate = float((sensor.identity or {}).get("output_rate_hz") or 0.0)
+        counter = np.asarray(d["counter"], dtype=np.int64) if "counter" in d else None
+        by_counter = rate > 0.0 and counter is not None and len(counter) == len(t)
         parts = []
+        missed = 0
         for e in trial.events:
             if e.get("kind") == "hold":
-                m = (t >= e["t_start_s"]) & (t <= e["t_end_s"])
-                parts.append((t[m], np.full(m.sum(), float(e["knee_flexion_deg"])), d["torque_nm"][m]))
+                if by_counter and "first_sample" in e:
+                    assert counter is not None
+                    m = (counter >= int(e["first_sample"])) & (counter <= int(e["last_sample"]))
+                    missed += int(e["last_sample"]) - int(e["first_sample"]) + 1 - int(m.sum())
+                    when = counter[m].astype(float) / rate
+                else:
+                    m = (t >= e["t_start_s"]) & (t <= e["t_end_s"])
+                    when = t[m]
+                parts.append((when, np.full(m.sum(), float(e["knee_flexion_deg"])), d["torque_nm"][m]))
         if not parts or sum(len(p[0]) for p in parts) == 0:
             holds = [e for e in trial.events if e.get("kind") == "hold"]
             t0 = float(t[0]) if len(t) else (holds[0]["t_start_s"] if holds else 0.0)  # times in the trial
@@ -147,11 +161,16 @@ def trial_table(trial: TrialFile, subject: dict[str, Any] | None = None) -> Tria
             raise ExportError(f"{trial.path}: no torque samples inside any hold ({len(t)} {span}; "
                               f"{len(holds)} {hold_span}, from the first sample)")
         tt, aa, qq = (np.concatenate(x) for x in zip(*parts))
-        return TrialTable({"time_s": tt - tt[0], "angle_deg": aa, "torque_Nm": qq},
+        # time in the trial from the first hold's first conversion (or, host-timed, its first sample)
+        first = next((e for e in trial.events if e.get("kind") == "hold"), {})
+        origin = int(first["first_sample"]) / rate if by_counter and "first_sample" in first else float(tt[0])
+        return TrialTable({"time_s": tt - origin, "angle_deg": aa, "torque_Nm": qq},
                           {"kind": "replica", "hip_flexion_deg": 90.0, "ankle_dorsiflexion_deg": 0.0,
                            "sensor_tared_unloaded": bool(cond.get("sensor_tared_unloaded", False)),
                            "subject": _subject_block(subject), "source": trial.path.name,
-                           "trial_status": trial.status})
+                           "trial_status": trial.status,
+                           # conversions inside the holds that no poll read (the counter shows them)
+                           **({"hold_conversions_missed": missed} if by_counter else {})})
     if name == "aads":
         return aads_table(trial, subject)
     raise ExportError(f"{trial.path}: no table export for {name!r} trials")

@@ -317,14 +317,29 @@ class AnkleProtocol(IsokineticProtocol):
         return f"knee at {self.knee_flexion_deg:g}°"
 
 
+@dataclass(frozen=True)
+class HoldStart:
+    """When the replica leg's first hold starts.
+
+    :ivar host_time_s: host monotonic time (s).
+    :ivar device_sample: the torque transmitter's sample counter at that moment, when the rig knows
+        it exactly (the simulated rig does); else the driver estimates it from its newest sample.
+    """
+
+    host_time_s: float
+    device_sample: int | None = None
+
+
 @dataclass
 class ReplicaProtocol(TrialProtocol):
     """Replica leg, hip 90°: the knee locked at each of ``angles_deg`` for ``hold_s``, torque read at each.
 
     The holds' timing comes from the rig: ``start_holds()`` (the operator's hand: a GUI prompt on the
     bench, the replica-leg simulator in simulation) starts the schedule once the recording runs and
-    returns the host time (s, ``time.monotonic``) of the first hold's start. Without it the first
-    hold starts when the recording does.
+    returns the :class:`HoldStart` of the first hold. Without it the first hold starts when the
+    recording does. With a transmitter that numbers its samples, each hold is also marked by its
+    first and last device sample (``first_sample``, ``last_sample``): the reading is then the same
+    conversions whatever the host's timing, and the export takes them by the counter.
     """
 
     name: ClassVar[str] = "replica"
@@ -332,7 +347,7 @@ class ReplicaProtocol(TrialProtocol):
     angles_deg: tuple[float, ...] = tuple(float(a) for a in range(0, 90, 8))
     hold_s: float = 2.0
     move_speed_deg_s: float = 16.0
-    start_holds: Callable[[], float] | None = field(default=None, repr=False, compare=False)
+    start_holds: Callable[[], HoldStart] | None = field(default=None, repr=False, compare=False)
     #: the operator's hand: ``unload(True)`` takes the shank (and springs) off the sensor,
     #: ``unload(False)`` puts it back; a GUI prompt on the bench, the simulator in simulation
     unload: Callable[[bool], None] | None = field(default=None, repr=False, compare=False)
@@ -368,13 +383,23 @@ class ReplicaProtocol(TrialProtocol):
 
     def drive(self, devices: dict[str, StreamingDevice], mark: Any, stop: threading.Event) -> None:
         # called here, with the recording running, so every hold lies inside it
-        t0 = self.start_holds() if self.start_holds is not None else time.monotonic()
+        origin = self.start_holds() if self.start_holds is not None else HoldStart(time.monotonic())
+        t0 = origin.host_time_s
+        sensor = devices.get("torque_sensor")
+        rate = getattr(sensor, "output_rate_hz", None)
+        k0 = origin.device_sample
         for angle, start, end in self.hold_windows():
             if _wait(stop, max(0.0, t0 + end - time.monotonic())):
                 return
             # the reading is the middle 60% of the hold (away from the moves)
             pad = 0.2 * (end - start)
-            mark("hold", knee_flexion_deg=angle, t_start_s=t0 + start + pad, t_end_s=t0 + end - pad)
+            fields: dict[str, Any] = {"knee_flexion_deg": angle, "t_start_s": t0 + start + pad, "t_end_s": t0 + end - pad}
+            if rate and k0 is None:
+                k0 = sensor.sample_at(t0)  # type: ignore[union-attr]  # a transmitter with a rate has it
+            if rate and k0 is not None:
+                fields["first_sample"] = k0 + math.ceil((start + pad) * rate - 1e-6)
+                fields["last_sample"] = k0 + math.floor((end - pad) * rate + 1e-6)
+            mark("hold", **fields)
 
     def expected_duration_s(self) -> float:
         return self.hold_windows()[-1][2]

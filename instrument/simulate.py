@@ -17,7 +17,7 @@ from drivers.simulation.lab import LabConfig, SimulatedLab
 from drivers.simulation.replica_leg import ReplicaLeg
 from drivers.simulation.seated_leg import SeatedLeg
 
-from .protocols import AADS_SPRINGS_N_PER_M, TrialProtocol
+from .protocols import AADS_SPRINGS_N_PER_M, HoldStart, TrialProtocol
 
 OPENERS = {"force_plate": open_force_plate, "dynamometer": open_dynamometer,
            "torque_sensor": open_torque_sensor, "mocap": open_marker_stream}
@@ -58,7 +58,13 @@ def _replica_operator(protocol: Any, lab: SimulatedLab) -> None:
     # the simulated operator's hand: shank off the sensor for the tare, then back on; the hold
     # schedule started on the protocol's cue (the simulated lab's own, every time: never a previous lab's)
     protocol.unload = lambda off: setattr(lab.torque_sensor, "shank_attached", not off)
-    protocol.start_holds = lambda: lab.torque_sensor.start_schedule(lead_s=0.1)
+    protocol.start_holds = lambda: _start_replica_schedule(lab)
+
+
+def _start_replica_schedule(lab: SimulatedLab) -> HoldStart:
+    host_time_s = lab.torque_sensor.start_schedule(lead_s=0.1)
+    counted = lab.torque_sensor.output_rate_hz is not None
+    return HoldStart(host_time_s, lab.torque_sensor.schedule_origin_sample if counted else None)
 
 
 #: the simulated rig (what LabConfig gets) and the simulated operator's hand, per trial kind

@@ -37,6 +37,8 @@ class LabConfig:
     marker_noise_m: float = 2e-4
     occlusion_rate: float = 0.0
     torque_baud: int = 115200
+    #: the lab's transmitter converts at 100 Hz and numbers its samples (None: one without a counter)
+    torque_output_rate_hz: float | None = 100.0
     plate_faults: FaultConfig = field(default_factory=FaultConfig)
     dyno_faults: FaultConfig = field(default_factory=FaultConfig)
     torque_faults: FaultConfig = field(default_factory=FaultConfig)
@@ -57,7 +59,8 @@ class SimulatedLab:
         self.mocap = MarkerSimulator(self.jig, c.mocap_rate_hz, noise_m=c.marker_noise_m,
                                      occlusion_rate=c.occlusion_rate, time_origin_s=self.force_plate.time_origin_s,
                                      seed=c.seed, name=f"markers-{channel}")
-        self.torque_sensor = TorqueSensorSimulator(c.replica, baud=c.torque_baud, faults=c.torque_faults, seed=c.seed)
+        self.torque_sensor = TorqueSensorSimulator(c.replica, baud=c.torque_baud, faults=c.torque_faults, seed=c.seed,
+                                                   output_rate_hz=c.torque_output_rate_hz)
         self.urls = {
             "force_plate": f"{self.force_plate.url}?rate={c.plate_rate_hz}",
             "dynamometer": f"virtual://{channel}?rate={c.telemetry_rate_hz}",

@@ -23,7 +23,7 @@ from pymodbus.exceptions import ConnectionException
 from pymodbus.framer.rtu import FramerRTU
 
 from ..blocks import TorqueBlock
-from ..clock import monotonic_s
+from ..clock import CounterUnwrapper, monotonic_s
 from ..errors import (
     CommandRefusedError,
     ConnectionLostError,
@@ -45,8 +45,13 @@ T = TypeVar("T")
 class ModbusTorqueSensor(TorqueSensor):
     """Polls torque (and optionally speed) as fast as the link allows, or at ``rate`` Hz.
 
-    Every poll attempt takes the next value of the driver's sample counter, so a poll that
-    fails (timeout, bad CRC, exception response) is a counted gap, never a silent hole.
+    A transmitter that publishes an output data rate (register 0x0017) numbers its conversions
+    (0x0004) and keeps its newest 8 in a history block (0x0040): each poll reads the block, each
+    conversion is kept once with the device's counter (a poll that finds nothing new is counted in
+    :attr:`repeat_polls`), a host stall shorter than 8 conversions loses nothing, and a longer one is
+    a counted gap. Without
+    it, every poll attempt takes the next value of the driver's own counter, so a poll that fails
+    (timeout, bad CRC, exception response) is a counted gap. Either way never a silent hole.
 
     :param port: pyserial URL or path (RTU), or ``host:port`` (TCP).
     :param framing: ``"rtu"`` or ``"tcp"``.
@@ -54,7 +59,8 @@ class ModbusTorqueSensor(TorqueSensor):
     :param baud: serial baud (RTU).
     :param word_order: float word order of this transmitter.
     :param rate: poll rate in Hz; None polls back to back.
-    :param read_speed: also read the speed registers (slows the poll by 4 characters).
+    :param read_speed: also read the speed registers (slows the poll by 4 characters); a transmitter
+        with a sample counter is read through its history block, which holds torque only.
     :param timeout_s: response timeout of one poll.
     """
 
@@ -87,6 +93,12 @@ class ModbusTorqueSensor(TorqueSensor):
         self._next_poll = 0.0
         self._bad_crc_seen = False
         self.zero_offset_nm = float("nan")
+        #: the transmitter's output data rate (Hz) when it numbers its samples, else None (set at open)
+        self.output_rate_hz: float | None = None
+        #: polls that found the sample a previous poll had read (a transmitter with a counter)
+        self.repeat_polls = 0
+        self._unwrap = CounterUnwrapper(32)
+        self._last_sample: tuple[int, float] | None = None  # (device counter, host time s) of the newest sample
         super().__init__(**kwargs)
 
     @classmethod
@@ -141,12 +153,26 @@ class ModbusTorqueSensor(TorqueSensor):
             raise DeviceInitializationError(f"{self.name}: unit {self.unit} on {self.port} does not answer")
         self.zero_offset_nm = r.decode_float(regs, self.word_order)
         self._check_word_order()
+        self._probe_sample_counter()
+
+    def _probe_sample_counter(self) -> None:
+        """Read the output data rate: a transmitter that publishes one numbers its conversions, and the
+        poll then reads its history block (the newest conversions with their counter) in one request."""
+        published = self._read_registers(self.registers.output_rate, 1, probe=True)
+        if not published or published[0] == 0:
+            self.output_rate_hz = None
+            self._nregs = 4 if self.read_speed else 2
+            return
+        self.output_rate_hz = float(published[0])
+        self._nregs = 2 + 2 * r.HISTORY_DEPTH
+        self._unwrap.reset()
+        self._last_sample = None
 
     def _check_word_order(self) -> None:
         """Refuse to open with a float word order the transmitter says it does not use: a wrong one
         reads 1.5 N·m as 516607 N·m, silently. A transmitter without the register is taken at the
         URL's word."""
-        published = self._read_registers(self.registers.word_order, 1)
+        published = self._read_registers(self.registers.word_order, 1, probe=True)
         if published is None:
             self.word_order_confirmed = False
             return
@@ -190,8 +216,11 @@ class ModbusTorqueSensor(TorqueSensor):
             except BaseException as err:  # noqa: BLE001 - handed back to the caller
                 future.set_exception(err)
 
-    def _read_registers(self, address: int, count: int) -> list[int] | None:
-        """One FC03 read; None if it failed in a way that is counted (timeout, CRC, exception)."""
+    def _read_registers(self, address: int, count: int, *, probe: bool = False) -> list[int] | None:
+        """One FC03 read; None if it failed in a way that is counted (timeout, CRC, exception).
+
+        ``probe``: asking whether an optional register exists, so an exception response (no such
+        register) is an answer, not a bad frame."""
         client = self._client
         if client is None:
             raise ConnectionLostError(f"{self.name}: not connected")
@@ -212,7 +241,8 @@ class ModbusTorqueSensor(TorqueSensor):
             self.stats.malformed_frames += 1
             return None
         if rr.isError():
-            self.stats.malformed_frames += 1
+            if not probe:
+                self.stats.malformed_frames += 1
             return None
         if self._client is None or not self._client.connected:
             raise ConnectionLostError(f"{self.name}: link to {self.port} lost")
@@ -242,6 +272,9 @@ class ModbusTorqueSensor(TorqueSensor):
                 self._next_poll = max(self._next_poll + 1.0 / self.rate_hz, monotonic_s() - 0.5 / self.rate_hz)
             t_request = monotonic_s()
             self._counter += 1
+            if self.output_rate_hz is not None:
+                self._poll_history(t_request, counters, times, torque, speed)
+                continue
             regs = self._read_registers(self.registers.torque, self._nregs)
             if regs is None:
                 continue
@@ -253,6 +286,40 @@ class ModbusTorqueSensor(TorqueSensor):
             return None
         return TorqueBlock(device=self.name, counter=np.array(counters, dtype=np.int64), time_s=np.array(times),
                            torque_nm=np.array(torque), speed_rad_s=np.array(speed))
+
+    def _poll_history(self, t_request: float, counters: list[int], times: list[float], torque: list[float],
+                      speed: list[float]) -> None:
+        """One read of the history block: every conversion newer than the last one kept, oldest first.
+
+        The newest is stamped with the poll's midpoint, older ones one conversion period earlier each.
+        A poll that finds nothing new is counted in :attr:`repeat_polls`; conversions older than the
+        block's depth that no poll saw show as a gap in the counter."""
+        assert self.output_rate_hz is not None
+        regs = self._read_registers(self.registers.history, self._nregs)
+        if regs is None:
+            return
+        t_newest = 0.5 * (t_request + monotonic_s())
+        newest = self._unwrap.unwrap(r.decode_uint32(regs[0:2], self.word_order))
+        last = self._last_sample[0] if self._last_sample is not None else newest - 1
+        fresh = [i for i in range(r.HISTORY_DEPTH - 1, -1, -1) if last < newest - i]
+        if not fresh:
+            self.repeat_polls += 1
+            return
+        for i in fresh:
+            counters.append(newest - i)
+            times.append(t_newest - i / self.output_rate_hz)
+            torque.append(r.decode_float(regs[2 + 2 * i:4 + 2 * i], self.word_order))
+            speed.append(np.nan)
+        self._last_sample = (newest, t_newest)
+
+    def sample_at(self, host_time_s: float) -> int | None:
+        """The device sample counter at host time ``host_time_s`` (s, :func:`~drivers.clock.monotonic_s`),
+        from the newest sample read and the output data rate; None for a transmitter without a counter
+        or before the first sample."""
+        if self.output_rate_hz is None or self._last_sample is None:
+            return None
+        sample, t = self._last_sample
+        return sample + int(np.floor((host_time_s - t) * self.output_rate_hz))
 
     def read_torque_nm(self) -> float:
         """One poll of the torque register outside streaming (N·m).
@@ -289,7 +356,8 @@ class ModbusTorqueSensor(TorqueSensor):
         d = super().identity()
         d.update(port=self.port, framing=self.framing, unit=self.unit, baud=self.baud, word_order=self.word_order,
                  poll_rate_hz=self.rate_hz, poll_rate_limit_hz=self.poll_rate_limit_hz,
-                 zero_offset_nm=self.zero_offset_nm, registers=vars(self.registers))
+                 zero_offset_nm=self.zero_offset_nm, registers=vars(self.registers),
+                 output_rate_hz=self.output_rate_hz, sample_counter=self.output_rate_hz is not None)
         return d
 
 

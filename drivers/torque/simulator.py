@@ -28,6 +28,9 @@ from ..simulation.replica_leg import ReplicaLeg
 from ..simulation.tcp_link import TcpDeviceLink
 from . import registers as r
 
+#: conversions the transmitter averages for a tare
+TARE_CONVERSIONS = 32
+
 
 class TorqueSensorSimulator:
     """One transmitter (unit ``unit``) measuring ``leg``.
@@ -37,11 +40,16 @@ class TorqueSensorSimulator:
     :param word_order: float word order the device uses.
     :param noise_nm: torque noise SD in N·m.
     :param offset_nm: the transducer's zero offset before any tare, N·m.
+    :param output_rate_hz: converts on its own clock at this rate (Hz) and numbers its conversions
+        (registers 0x0004 and 0x0017), each conversion's noise drawn from the seed and its number
+        counted from the hold schedule's start, so the same seed reads the same samples whatever the
+        host's timing; None: a transmitter without a counter, a fresh conversion at every poll.
     """
 
     def __init__(self, leg: ReplicaLeg | None = None, *, framing: str = "rtu", unit: int = 1,
                  baud: int = 115200, word_order: r.WordOrder = "big", noise_nm: float = 0.01,
-                 offset_nm: float = 0.35, faults: FaultConfig | None = None, seed: int = 0) -> None:
+                 offset_nm: float = 0.35, faults: FaultConfig | None = None, seed: int = 0,
+                 output_rate_hz: float | None = None) -> None:
         if baud not in r.BAUD_CODES.values():
             raise ValueError(f"baud {baud} not one of {sorted(r.BAUD_CODES.values())}")
         if framing not in ("rtu", "tcp"):
@@ -54,6 +62,14 @@ class TorqueSensorSimulator:
         self.zero_nm = 0.0
         self.faults = faults or FaultConfig()
         self.rng = np.random.default_rng(seed)
+        self.seed = seed
+        if output_rate_hz is not None and not 1 <= output_rate_hz <= 65535:
+            raise ValueError(f"output rate {output_rate_hz} Hz outside the register's 1–65535")
+        self.output_rate_hz = output_rate_hz
+        #: device sample at which the hold schedule began (counter mode; see :meth:`start_schedule`)
+        self.schedule_origin_sample = 0
+        self._tares = 0
+        self._conversions: dict[tuple[int, int, bool], float] = {}  # recent conversions (before the tare)
         self.byte_faults = ByteFaults(self.faults, seed + 7)
         self.reads = 0
         self._t0 = time.monotonic()
@@ -91,29 +107,83 @@ class TorqueSensorSimulator:
 
     def start_schedule(self, lead_s: float = 0.1) -> float:
         """The operator starts the leg's hold schedule ``lead_s`` seconds from now (at its first angle
-        until then); returns the host time (s, ``time.monotonic``) of the first hold's start."""
-        self._schedule_origin_s = time.monotonic() + lead_s
+        until then); returns the host time (s, ``time.monotonic``) of the first hold's start. With an
+        output rate the start falls on a conversion, :attr:`schedule_origin_sample`."""
+        if self.output_rate_hz is None:
+            self._schedule_origin_s = time.monotonic() + lead_s
+            return self._schedule_origin_s
+        self.schedule_origin_sample = self.sample_now() + int(np.ceil(lead_s * self.output_rate_hz))
+        self._schedule_origin_s = self._t0 + self.schedule_origin_sample / self.output_rate_hz
         return self._schedule_origin_s
+
+    def sample_now(self) -> int:
+        """The number of the newest conversion (counter mode)."""
+        assert self.output_rate_hz is not None
+        return int(np.floor((time.monotonic() - self._t0) * self.output_rate_hz))
+
+    def _seeded_normal(self, *key: int) -> float:
+        return float(np.random.default_rng([self.seed, *key]).normal())
 
     # -- the device's registers
     def raw_torque_nm(self, t_s: float) -> float:
+        """Load + zero offset + noise at schedule time ``t_s`` (s), a fresh conversion (no counter)."""
         knee = self.leg.knee_deg(np.array([t_s]))
         noise = self.noise_nm * self.faults.noise_scale * float(self.rng.normal())
         load = float(self.leg.torque_nm(knee)[0]) if self.shank_attached else 0.0
         return load + self.offset_nm + noise
 
+    def conversion_nm(self, sample: int) -> float:
+        """The conversion numbered ``sample`` (counter mode): its noise is drawn from the seed and the
+        sample's place relative to the schedule's start, so it does not depend on when it is read."""
+        assert self.output_rate_hz is not None
+        key = (sample, self.schedule_origin_sample, self.shank_attached)
+        cached = self._conversions.get(key)
+        if cached is not None:
+            return cached
+        k = sample - self.schedule_origin_sample
+        load = float(self.leg.torque_nm(self.leg.knee_deg(np.array([k / self.output_rate_hz])))[0]) \
+            if self.shank_attached else 0.0
+        noise = self.noise_nm * self.faults.noise_scale * self._seeded_normal(1, k + (1 << 40))
+        value = load + self.offset_nm + noise
+        self._conversions[key] = value
+        while len(self._conversions) > 4 * r.HISTORY_DEPTH:
+            self._conversions.pop(next(iter(self._conversions)))
+        return value
+
+    def _tare_zero_nm(self, t_s: float) -> float:
+        """The new zero: the mean of the transmitter's 32 tare conversions (counter mode; their noise
+        drawn from the seed and the tare's number), else one fresh conversion."""
+        if self.output_rate_hz is None:
+            return self.raw_torque_nm(t_s)
+        self._tares += 1
+        load = float(self.leg.torque_nm(self.leg.knee_deg(np.array([t_s])))[0]) if self.shank_attached else 0.0
+        noise = np.random.default_rng([self.seed, 2, self._tares]).normal(size=TARE_CONVERSIONS).mean()
+        return load + self.offset_nm + self.noise_nm * self.faults.noise_scale * float(noise)
+
     async def _action(self, function_code: int, start_address: int, address: int, count: int,
                       regs: list[int], set_values: list[int] | list[bool] | None) -> None:
         t = time.monotonic() - self._schedule_origin_s
         if function_code == 6 and address == r.TARE and set_values and set_values[0] == 1:
-            self.zero_nm = self.raw_torque_nm(t)
+            self.zero_nm = self._tare_zero_nm(t)
         if function_code == 3:
             self.reads += 1
+            if self.output_rate_hz is None:
+                raw, sample = self.raw_torque_nm(t), 0
+            else:
+                sample = self.sample_now()
+                raw = self.conversion_nm(sample)
+                t = (sample - self.schedule_origin_sample) / self.output_rate_hz
             values = {
-                r.TORQUE: r.encode_float(self.raw_torque_nm(t) - self.zero_nm, self.word_order),
+                r.TORQUE: r.encode_float(raw - self.zero_nm, self.word_order),
                 r.SPEED: r.encode_float(float(self.leg.speed_rpm(np.array([t]))[0]), self.word_order),
+                r.SAMPLE_COUNT: r.encode_uint32(sample, self.word_order),
                 r.ZERO_OFFSET: r.encode_float(self.zero_nm, self.word_order),
             }
+            if self.output_rate_hz is not None and address + count > r.HISTORY:
+                values[r.HISTORY] = r.encode_uint32(sample, self.word_order)
+                for i in range(r.HISTORY_DEPTH):
+                    values[r.HISTORY + 2 + 2 * i] = r.encode_float(self.conversion_nm(sample - i) - self.zero_nm,
+                                                                   self.word_order)
             for base, words in values.items():
                 for i, w in enumerate(words):
                     if 0 <= base + i - start_address < len(regs):
@@ -125,6 +195,7 @@ class TorqueSensorSimulator:
         init = [0] * r.REGISTER_COUNT
         init[r.BAUD_CODE], init[r.UNIT_ID] = code, self.unit
         init[r.WORD_ORDER] = 0 if self.word_order == "big" else 1
+        init[r.OUTPUT_RATE] = int(round(self.output_rate_hz or 0))
         return SimDevice(id=self.unit, simdata=[SimData(address=0, values=init, datatype=DataType.REGISTERS)],
                          action=self._action)
 

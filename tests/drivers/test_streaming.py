@@ -110,3 +110,28 @@ def test_silence_is_a_timeout_then_streaming_resumes(kind: str) -> None:
     assert len(timeouts) == 1, errors
     assert any(t > timeouts[0] + 0.1 for t in arrivals)
     assert dev.stats.timeouts == 1
+
+
+def test_a_counting_transmitter_streams_each_conversion_once_with_its_seeded_value() -> None:
+    """A transmitter converting at 100 Hz and polled faster: repeats are dropped, every kept sample is
+    the simulator's conversion of that number (its noise seeded by the number, not the read time),
+    and what no poll read is a counted gap."""
+    from drivers import open_torque_sensor
+    from drivers.torque.simulator import TorqueSensorSimulator
+
+    with TorqueSensorSimulator(seed=5, output_rate_hz=100.0) as sim:
+        dev = open_torque_sensor(sim.url + "&timeout=0.25", silence_timeout_s=0.5)
+        try:
+            blocks, errors, _ = collect(dev, 1.5, until=lambda e, a: dev.stats.samples >= 60)
+        finally:
+            dev.close()
+        c = counters(blocks)
+        torque = np.concatenate([b.torque_nm for b in blocks])
+        expected = np.array([sim.conversion_nm(int(k)) - sim.zero_nm for k in c], dtype=np.float32)
+    assert not errors and c.size >= 60
+    assert np.all(np.diff(c) >= 1)  # each conversion once
+    assert np.array_equal(torque.astype(np.float32), expected)
+    assert dev.stats.lost_samples == int((np.diff(c) - 1).sum())
+    # a second simulator of the same seed gives conversion k of the schedule the same value
+    with TorqueSensorSimulator(seed=5, output_rate_hz=100.0) as other:
+        assert all(other.conversion_nm(int(k)) == sim.conversion_nm(int(k)) for k in c[:20])
