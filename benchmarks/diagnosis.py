@@ -5,17 +5,20 @@ Leva limb weight, its own effect shapes and noise), which shares nothing with th
 each kind (AFO, knee, ankle): clean trials, every single effect at 3–5× the noise, every pair of
 effects, half of them with nuisances (100/250/1000 Hz, AR(1) noise of random correlation,
 offsets, NaN cells, dropped rows, uneven speed). A hard stop is also measured at larger sizes
-(its detection threshold). The same trials go through a peer method, SINDy's sequentially
-thresholded least squares (Brunton et al. 2016) on a library of the same terms, so the numbers
-have a reference measured in the same run.
+(its detection threshold). The same trials go through a peer, PySINDy's sequentially thresholded
+least squares over a library of the same candidate terms with its threshold chosen by blocked
+cross-validation (:mod:`benchmarks.sindy_peer`), at the CV minimum and with the one-standard-error
+rule, so the numbers have a reference measured in the same run.
 
 A trial counts as right when the set of named causes equals the hidden set. A limb-weight error
 in one configuration is right when it is reported as untestable (the baseline absorbs it: the
 report says so and names the trial that would separate it). Magnitudes: |fitted / true − 1|.
 
-Keys: ``accuracy`` (single effects), ``pair_accuracy``, ``false_alarm_rate`` (clean trials),
-``sindy_accuracy`` (the peer on the single effects), ``seconds_per_trial``, ``magnitude_within_15pct``,
-``seconds_100hz_60s``, ``seconds_1000hz_60s``, per-cause tables.
+Keys: ``accuracy`` (single effects), ``pair_accuracy``, ``false_alarm_rate`` (clean trials), the
+peer's ``sindy_accuracy``, ``sindy_pair_accuracy``, ``sindy_false_alarm_rate`` and their
+``sindy_1se_*`` twins, ``seconds_per_trial`` (and ``sindy_seconds_per_trial``),
+``magnitude_within_15pct``, ``seconds_100hz_60s``, ``seconds_1000hz_60s``, per-cause and per-pair
+tables for both.
 """
 
 from __future__ import annotations
@@ -23,12 +26,12 @@ from __future__ import annotations
 import itertools
 import time
 from collections import defaultdict
+from concurrent.futures import ProcessPoolExecutor
 from typing import Any
 
 import numpy as np
 
 from analysis.diagnosis import DiagnosisTrial, diagnose
-from analysis.diagnosis.causes import baseline_columns
 from benchmarks.diagnosis_truth import EFFECTS, MAGNITUDE_KEY, IndependentTrial, generate
 
 KINDS = ("afo", "knee", "ankle")
@@ -66,43 +69,17 @@ def magnitude_errors(d: Any, g: IndependentTrial) -> dict[str, float]:
     return out
 
 
-def sindy_named(g: IndependentTrial, kind: str) -> set[str]:
-    """The peer: sequentially thresholded least squares (SINDy's STLSQ) on the baseline plus one library
-    term per cause; a cause is named when its term survives. The threshold keeps a term whose
-    contribution's standard deviation is at least half the noise's (estimated from the full fit)."""
-    t = as_trial(g)
-    if kind == "afo":
-        keep = t.angle_rad >= np.deg2rad(6.0)
-    else:
-        keep = np.ones(t.time_s.size, dtype=bool)
-    th, ts = t.angle_rad[keep], t.time_s[keep]
-    omega = t.velocity_rad_s()[keep]
-    y = (t.torque_nm - t.limb_gravity_nm())[keep]
-    lo, hi = float(th.min()), float(th.max())
-    base = baseline_columns(kind, th, lo, hi)
-    span = hi - lo
-    terms = {"coulomb_friction": np.tanh(omega / np.deg2rad(1.0)), "viscous_damping": omega,
-             "sensor_drift": ts - ts.mean(),
-             "hard_stop": np.maximum(th - (hi - 0.1 * span), 0.0) - np.maximum((lo + 0.1 * span) - th, 0.0),
-             "time_delay": np.gradient(y, ts)}
-    if kind != "afo":
-        terms["gravity_error"] = t.gravity_shape()[keep]
-    names = list(terms)
-    lib = np.column_stack([terms[n] for n in names])
-    x = np.hstack([base, lib])
-    scale = np.maximum(np.abs(x).max(axis=0), 1e-12)
-    active = np.ones(x.shape[1], dtype=bool)
-    coef = np.linalg.lstsq(x / scale, y, rcond=None)[0]
-    sigma = float(np.std(y - (x / scale) @ coef))
-    for _ in range(10):
-        contrib = np.abs(coef) * np.std(x / scale, axis=0)
-        small = (contrib < 0.5 * sigma) & (np.arange(x.shape[1]) >= base.shape[1])
-        if not np.any(small & active):
-            break
-        active &= ~small
-        coef = np.zeros(x.shape[1])
-        coef[active] = np.linalg.lstsq((x / scale)[:, active], y, rcond=None)[0]
-    return {n for i, n in enumerate(names) if active[base.shape[1] + i] and coef[base.shape[1] + i] != 0}
+def _peer(job: tuple[str, tuple[str, ...], int, bool]) -> Any:
+    from benchmarks.sindy_peer import diagnose_sparse
+
+    kind, effects, seed, nuisances = job
+    return diagnose_sparse(as_trial(generate(kind, effects, seed, nuisances=nuisances)))
+
+
+def peer_is_right(named: frozenset[str], untestable: frozenset[str], g: IndependentTrial) -> bool:
+    """The peer's answer scored as the diagnosis's: the hidden set, a limb-weight error its library
+    had to leave out (the baseline reproduces it) counted as reported untestable."""
+    return set(named) == set(g.effects) - (untestable & {"gravity_error"})
 
 
 def _speed(rate_hz: float) -> float:
@@ -135,28 +112,42 @@ def run(quick: bool = False) -> dict[str, Any]:
         n_trials += 1
         return d
 
+    todo: list[tuple[str, tuple[str, ...], int, bool]] = []
     for kind in KINDS:
-        for s in range(seeds * 2):
-            g = generate(kind, (), 500 + s, nuisances=bool(s % 2))
-            clean[kind].append(not named_causes(one(g)))
-        for cause in EFFECTS[kind]:
-            for s in range(seeds):
-                g = generate(kind, (cause,), 1000 + s, nuisances=bool(s % 2))
-                d = one(g)
-                singles[f"{kind}/{cause}"].append(is_right(d, g))
-                sindy[f"{kind}/{cause}"].append(sindy_named(g, kind) == set(g.effects) - {"gravity_error"}
-                                                if cause == "gravity_error" else sindy_named(g, kind) == set(g.effects))
-                for c, e in magnitude_errors(d, g).items():
-                    mags[f"{kind}/{c}"].append(e)
-        for a, b in itertools.combinations(EFFECTS[kind], 2):
-            if frozenset({a, b}) in INSEPARABLE or "gravity_error" in (a, b):
-                continue
-            for s in range(pair_seeds):
-                g = generate(kind, (a, b), 2000 + s, nuisances=bool(s % 2))
-                d = one(g)
-                pairs[f"{kind}/{a}+{b}"].append(is_right(d, g))
-                for c, e in magnitude_errors(d, g).items():
-                    mags[f"{kind}/{c} (pair)"].append(e)
+        todo += [(kind, (), 500 + s, bool(s % 2)) for s in range(seeds * 2)]
+        todo += [(kind, (cause,), 1000 + s, bool(s % 2)) for cause in EFFECTS[kind] for s in range(seeds)]
+        todo += [(kind, (a, b), 2000 + s, bool(s % 2)) for a, b in itertools.combinations(EFFECTS[kind], 2)
+                 if frozenset({a, b}) not in INSEPARABLE and "gravity_error" not in (a, b) for s in range(pair_seeds)]
+    t_peer = time.perf_counter()
+    with ProcessPoolExecutor(2) as pool:
+        peer_results = list(pool.map(_peer, todo, chunksize=2))
+    t_peer = (time.perf_counter() - t_peer) * 2 / len(todo)  # two processes
+    sindy_clean: dict[str, list[bool]] = defaultdict(list)
+    sindy_clean_1se: dict[str, list[bool]] = defaultdict(list)
+    sindy_1se: dict[str, list[bool]] = defaultdict(list)
+    sindy_pairs: dict[str, list[bool]] = defaultdict(list)
+    sindy_pairs_1se: dict[str, list[bool]] = defaultdict(list)
+    for (kind, effects, seed, nuisances), peer in zip(todo, peer_results, strict=True):
+        g = generate(kind, effects, seed, nuisances=nuisances)
+        d = one(g)
+        at_min = peer_is_right(peer.named, peer.untestable, g)
+        at_1se = peer_is_right(peer.named_1se, peer.untestable, g)
+        if not effects:
+            clean[kind].append(not named_causes(d))
+            sindy_clean[kind].append(at_min)
+            sindy_clean_1se[kind].append(at_1se)
+            continue
+        key = f"{kind}/{'+'.join(effects)}"
+        if len(effects) == 1:
+            singles[key].append(is_right(d, g))
+            sindy[key].append(at_min)
+            sindy_1se[key].append(at_1se)
+        else:
+            pairs[key].append(is_right(d, g))
+            sindy_pairs[key].append(at_min)
+            sindy_pairs_1se[key].append(at_1se)
+        for c, e in magnitude_errors(d, g).items():
+            mags[f"{kind}/{c}" + (" (pair)" if len(effects) == 2 else "")].append(e)
     stop_threshold: dict[str, dict[str, float]] = {}
     for kind in KINDS:
         stop_threshold[kind] = {}
@@ -174,27 +165,40 @@ def run(quick: bool = False) -> dict[str, Any]:
     s1000 = _speed(1000.0)
     out = {
         "quick": quick, "trials": n_trials,
-        "accuracy": rate(singles), "sindy_accuracy": rate(sindy), "pair_accuracy": rate(pairs),
-        "false_alarm_rate": 1.0 - rate(clean),
+        "accuracy": rate(singles), "pair_accuracy": rate(pairs), "false_alarm_rate": 1.0 - rate(clean),
+        "sindy_accuracy": rate(sindy), "sindy_pair_accuracy": rate(sindy_pairs),
+        "sindy_false_alarm_rate": 1.0 - rate(sindy_clean),
+        "sindy_1se_accuracy": rate(sindy_1se), "sindy_1se_pair_accuracy": rate(sindy_pairs_1se),
+        "sindy_1se_false_alarm_rate": 1.0 - rate(sindy_clean_1se),
         "false_alarm_rate_by_kind": {k: 1.0 - float(np.mean(v)) for k, v in clean.items()},
+        "sindy_false_alarm_rate_by_kind": {k: 1.0 - float(np.mean(v)) for k, v in sindy_clean.items()},
+        "sindy_1se_false_alarm_rate_by_kind": {k: 1.0 - float(np.mean(v)) for k, v in sindy_clean_1se.items()},
         "accuracy_by_cause": {k: float(np.mean(v)) for k, v in singles.items()},
         "sindy_accuracy_by_cause": {k: float(np.mean(v)) for k, v in sindy.items()},
+        "sindy_1se_accuracy_by_cause": {k: float(np.mean(v)) for k, v in sindy_1se.items()},
         "pair_accuracy_by_pair": {k: float(np.mean(v)) for k, v in pairs.items()},
+        "sindy_pair_accuracy_by_pair": {k: float(np.mean(v)) for k, v in sindy_pairs.items()},
+        "sindy_1se_pair_accuracy_by_pair": {k: float(np.mean(v)) for k, v in sindy_pairs_1se.items()},
         "magnitude_within_15pct": float(np.mean(np.array(all_mags) <= 0.15)) if all_mags else float("nan"),
         "magnitude_median_error": float(np.median(all_mags)) if all_mags else float("nan"),
         "magnitude_error_by_cause": {k: float(np.median(v)) for k, v in mags.items()},
         "hard_stop_detection_by_size": stop_threshold,
-        "seconds_per_trial": t_total / n_trials,
+        "seconds_per_trial": t_total / n_trials, "sindy_seconds_per_trial": t_peer,
         "seconds_100hz_60s": s100, "seconds_1000hz_60s": s1000, "seconds_ratio_1000_to_100hz": s1000 / s100,
     }
-    print(f"{'cause':<32}{'diagnosis':>10}{'SINDy':>8}{'|mag err| median':>18}")
+    print(f"{'cause':<32}{'diagnosis':>10}{'SINDy':>8}{'SINDy 1SE':>10}{'|mag err| median':>18}")
     for k in out["accuracy_by_cause"]:
         m = out["magnitude_error_by_cause"].get(k)
         print(f"{k:<32}{out['accuracy_by_cause'][k]:>10.2f}{out['sindy_accuracy_by_cause'][k]:>8.2f}"
-              f"{(f'{m:.3f}' if m is not None else '—'):>18}")
-    print("\npairs:")
+              f"{out['sindy_1se_accuracy_by_cause'][k]:>10.2f}{(f'{m:.3f}' if m is not None else '—'):>18}")
+    print(f"\n{'pair':<50}{'diagnosis':>10}{'SINDy':>8}{'SINDy 1SE':>10}")
     for k, v in out["pair_accuracy_by_pair"].items():
-        print(f"  {k:<48}{v:.2f}")
+        print(f"  {k:<48}{v:>10.2f}{out['sindy_pair_accuracy_by_pair'][k]:>8.2f}"
+              f"{out['sindy_1se_pair_accuracy_by_pair'][k]:>10.2f}")
+    print(f"\n{'':<24}{'diagnosis':>10}{'SINDy':>8}{'SINDy 1SE':>10}")
+    for label, key in (("single effects", "accuracy"), ("both causes of a pair", "pair_accuracy"),
+                       ("false alarms (clean)", "false_alarm_rate")):
+        print(f"{label:<24}{out[key]:>10.3f}{out['sindy_' + key]:>8.3f}{out['sindy_1se_' + key]:>10.3f}")
     print(f"\nhard stop found, by size: {stop_threshold}")
     print(f"\nsingle effects {out['accuracy']:.3f} (SINDy {out['sindy_accuracy']:.3f}); pairs {out['pair_accuracy']:.3f}; "
           f"false alarms {out['false_alarm_rate']:.3f} {out['false_alarm_rate_by_kind']}; magnitudes within 15 %: "

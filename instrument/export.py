@@ -141,13 +141,17 @@ def trial_table(trial: TrialFile, subject: dict[str, Any] | None = None) -> Tria
         by_counter = rate > 0.0 and counter is not None and len(counter) == len(t)
         parts = []
         missed = 0
+        # time in the trial from the first hold's first conversion (or, host-timed, its first sample),
+        # counted in whole conversions so that the same conversion has the same time in every run
+        first = next((e for e in trial.events if e.get("kind") == "hold"), {})
+        origin_sample = int(first["first_sample"]) if by_counter and "first_sample" in first else None
         for e in trial.events:
             if e.get("kind") == "hold":
-                if by_counter and "first_sample" in e:
+                if by_counter and "first_sample" in e and origin_sample is not None:
                     assert counter is not None
                     m = (counter >= int(e["first_sample"])) & (counter <= int(e["last_sample"]))
                     missed += int(e["last_sample"]) - int(e["first_sample"]) + 1 - int(m.sum())
-                    when = counter[m].astype(float) / rate
+                    when = (counter[m] - origin_sample).astype(float) / rate
                 else:
                     m = (t >= e["t_start_s"]) & (t <= e["t_end_s"])
                     when = t[m]
@@ -161,9 +165,7 @@ def trial_table(trial: TrialFile, subject: dict[str, Any] | None = None) -> Tria
             raise ExportError(f"{trial.path}: no torque samples inside any hold ({len(t)} {span}; "
                               f"{len(holds)} {hold_span}, from the first sample)")
         tt, aa, qq = (np.concatenate(x) for x in zip(*parts))
-        # time in the trial from the first hold's first conversion (or, host-timed, its first sample)
-        first = next((e for e in trial.events if e.get("kind") == "hold"), {})
-        origin = int(first["first_sample"]) / rate if by_counter and "first_sample" in first else float(tt[0])
+        origin = 0.0 if origin_sample is not None else float(tt[0])
         return TrialTable({"time_s": tt - origin, "angle_deg": aa, "torque_Nm": qq},
                           {"kind": "replica", "hip_flexion_deg": 90.0, "ankle_dorsiflexion_deg": 0.0,
                            "sensor_tared_unloaded": bool(cond.get("sensor_tared_unloaded", False)),
