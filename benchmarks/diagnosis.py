@@ -70,10 +70,13 @@ def magnitude_errors(d: Any, g: IndependentTrial) -> dict[str, float]:
 
 
 def _peer(job: tuple[str, tuple[str, ...], int, bool]) -> Any:
+    from threadpoolctl import threadpool_limits  # scikit-learn's, which PySINDy needs
+
     from benchmarks.sindy_peer import diagnose_sparse
 
     kind, effects, seed, nuisances = job
-    return diagnose_sparse(as_trial(generate(kind, effects, seed, nuisances=nuisances)))
+    with threadpool_limits(1):  # two worker processes on two cores: one BLAS thread each
+        return diagnose_sparse(as_trial(generate(kind, effects, seed, nuisances=nuisances)))
 
 
 def peer_is_right(named: frozenset[str], untestable: frozenset[str], g: IndependentTrial) -> bool:
