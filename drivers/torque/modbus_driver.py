@@ -10,6 +10,7 @@ from __future__ import annotations
 import asyncio
 import concurrent.futures
 import logging
+import math
 import queue
 import threading
 import time
@@ -167,6 +168,15 @@ class ModbusTorqueSensor(TorqueSensor):
         self._nregs = 2 + 2 * r.HISTORY_DEPTH
         self._unwrap.reset()
         self._last_sample = None
+        # every conversion is read only if a poll comes at least once per HISTORY_DEPTH conversions
+        polls = min(self.rate_hz or math.inf, self.poll_rate_limit_hz)
+        need = self.output_rate_hz / r.HISTORY_DEPTH
+        if polls < need:
+            how = f"rate={self.rate_hz:g}" if self.rate_hz is not None and self.rate_hz < self.poll_rate_limit_hz \
+                else f"{self.baud} baud"
+            raise DeviceInitializationError(
+                f"{self.name}: {how} polls {polls:.1f}/s, but the transmitter converts at {self.output_rate_hz:g} Hz and "
+                f"holds {r.HISTORY_DEPTH} conversions: at least {need:.1f} polls/s are needed or conversions are lost")
 
     def _check_word_order(self) -> None:
         """Refuse to open with a float word order the transmitter says it does not use: a wrong one

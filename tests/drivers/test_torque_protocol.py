@@ -175,6 +175,18 @@ def test_a_transmitter_that_numbers_its_samples_keeps_each_conversion_once() -> 
     assert sensor.sample_at(times[-1] + 0.0251) == 32
 
 
+def test_a_poll_rate_that_cannot_keep_the_transmitters_conversions_is_refused_at_open() -> None:
+    """100 Hz conversions, 8 held: polls at 10/s would lose 2 of every 10, so the open says so."""
+    from drivers.errors import DeviceInitializationError
+
+    pairs = [(rtu("010300210002"), rtu("010304" + "00000000")), (rtu("010300160001"), rtu("010302" + "0000")),
+             (rtu("010300170001"), rtu("010302" + "0064"))]
+    with expected_protocol(pairs) as peer:
+        sensor = open_torque_sensor(f"modbus-rtu+socket://127.0.0.1:{peer.port}?rate=10")
+        with pytest.raises(DeviceInitializationError, match=r"rate=10 polls 10.0/s.*at least 12.5 polls/s"):
+            sensor.open()
+
+
 def test_uint32_counter_in_both_word_orders() -> None:
     for order in ("big", "little"):
         assert r.decode_uint32(r.encode_uint32(70000, order), order) == 70000
