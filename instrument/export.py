@@ -147,7 +147,7 @@ def trial_table(trial: TrialFile, subject: dict[str, Any] | None = None) -> Tria
         origin_sample = int(first["first_sample"]) if by_counter and "first_sample" in first else None
         for e in trial.events:
             if e.get("kind") == "hold":
-                if by_counter and "first_sample" in e and origin_sample is not None:
+                if origin_sample is not None and "first_sample" in e:
                     assert counter is not None
                     m = (counter >= int(e["first_sample"])) & (counter <= int(e["last_sample"]))
                     missed += int(e["last_sample"]) - int(e["first_sample"]) + 1 - int(m.sum())

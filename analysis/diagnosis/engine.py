@@ -507,6 +507,16 @@ MIN_STOP_PEAK_TO_NOISE = 2.0
 MAX_RATE_HZ = 200.0  # the diagnosis works on block means at this rate at most (passive effects are < 10 Hz)
 
 
+def _stop_offset(cause: Cause) -> int:
+    """Index of the hard stop's column among ``cause``'s extension columns (a pair lists its parts')."""
+    offset = 0
+    for part in cause.parts or (cause,):
+        if part.name == "hard_stop":
+            break
+        offset += _ext_count(part)
+    return offset
+
+
 def _bic(fit: CauseFit, n_eff: float) -> float:
     return n_eff * math.log(max(fit.rss / max(fit.n, 1), 1e-300)) + fit.n_params * math.log(n_eff)
 
@@ -606,11 +616,7 @@ class _Search:
     def stop_peak_to_noise(self, model: tuple[str, ...]) -> float:
         """The hard stop's largest torque in ``model`` (at the end of the range) over the model's residual RMS."""
         cause, f = self.fit(model)
-        offset = 0
-        for part in cause.parts or (cause,):
-            if part.name == "hard_stop":
-                break
-            offset += _ext_count(part)
+        offset = _stop_offset(cause)
         _, ext, valid = cause.columns(self.prep, f.nonlinear)
         effect = ext[valid][:, offset] * float(f.coef[f.n_base + offset])
         noise = math.sqrt(f.rss / max(f.n, 1))
@@ -619,11 +625,7 @@ class _Search:
     def stop_t(self, model: tuple[str, ...], n_eff: float) -> float:
         """t statistic of the hard stop's stiffness in ``model`` (its standard error inflated by n / n_eff)."""
         cause, f = self.fit(model)
-        offset = 0
-        for part in cause.parts or (cause,):
-            if part.name == "hard_stop":
-                break
-            offset += _ext_count(part)
+        offset = _stop_offset(cause)
         base, ext, valid = cause.columns(self.prep, f.nonlinear)
         x = np.hstack([base, ext])[valid]
         scale = np.maximum(np.abs(x).max(axis=0), 1e-12)
