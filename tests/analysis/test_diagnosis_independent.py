@@ -90,6 +90,20 @@ def test_both_causes_of_a_pair_are_named() -> None:
     assert right >= 6, wrong
 
 
+def test_friction_beside_a_drift_is_not_taken_for_damping() -> None:
+    """Friction leaves a drift's slow structure in its residual, whose own effective sample size is then the
+    smallest: ranked by their own ΔBICs, damping (a worse fit) won 7 of these 8 AFO trials (seeds 62000–62007,
+    found by a sweep of fresh seeds; other draws fail less often, about 1 in 8). Ranked at one noise model
+    for all causes, all 8 are named right."""
+    wrong = []
+    for seed in range(62000, 62008):
+        g = generate("afo", ("coulomb_friction", "sensor_drift"), seed, nuisances=bool(seed % 2))
+        d = diagnose(as_trial(g))
+        if not is_right(d, g):
+            wrong.append((seed, sorted(named_causes(d))))
+    assert len(wrong) <= 1, wrong
+
+
 def test_a_limb_weight_error_in_one_configuration_is_reported_untestable_not_guessed() -> None:
     g = generate("knee", ("gravity_error",), 5)
     d = diagnose(as_trial(g))
