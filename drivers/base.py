@@ -52,6 +52,7 @@ class DeviceStats:
     unsolicited_frames: int = 0
     counter_resyncs: int = 0
     timeouts: int = 0
+    poll_timeouts: int = 0  # polls the device left unanswered (a slow host or a silent line), not bad frames
     disconnects: int = 0
     reconnects: int = 0
     first_time_s: float = float("nan")

@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from drivers import DeviceTimeoutError, DriverError, SampleBlock, StreamingDevice
+from drivers import DeviceStats, DeviceTimeoutError, DriverError, SampleBlock, StreamingDevice
 
 from .recording import DeviceSpec, TrialWriter
 
@@ -78,6 +78,21 @@ class DeviceReport:
     def counts(self) -> dict[str, int]:
         return {"samples": self.samples, "lost_samples": int(self.stats.get("lost_samples", 0)),
                 "gaps": int(self.stats.get("gaps", 0))}
+
+
+def device_health_text(name: str, state: str, stats: DeviceStats) -> str:
+    """One device's part of the operator's health line: state, rate, gaps and lost samples, and, when
+    there were any, unanswered polls (a slow host or a silent line) apart from bad frames (a damaged line)."""
+    rate = stats.rate_hz()
+    if not np.isfinite(rate):
+        return f"{name}: {state}"
+    text = f"{name}: {state}, {rate:.0f} Hz, {stats.gaps} gaps, {stats.lost_samples} lost"
+    if stats.poll_timeouts:
+        text += f", {stats.poll_timeouts} unanswered polls"
+    bad = stats.crc_errors + stats.malformed_frames
+    if bad:
+        text += f", {bad} bad frames"
+    return text
 
 
 #: the devices' nominal sample rates (Hz), which size the ring buffers; one definition

@@ -93,6 +93,7 @@ class ModbusTorqueSensor(TorqueSensor):
         self._counter = 0
         self._next_poll = 0.0
         self._bad_crc_seen = False
+        self._reply_bytes_seen = False
         self.zero_offset_nm = float("nan")
         #: the transmitter's output data rate (Hz) when it numbers its samples, else None (set at open)
         self.output_rate_hz: float | None = None
@@ -124,6 +125,8 @@ class ModbusTorqueSensor(TorqueSensor):
     # -- link
     def _trace(self, sending: bool, data: bytes) -> bytes:
         """Check the CRC of every RTU response ourselves, so bad frames are counted as such."""
+        if not sending and data:
+            self._reply_bytes_seen = True
         if not sending and self.framing == "rtu" and len(data) >= 4:
             if not FramerRTU.check_CRC(data[:-2], int.from_bytes(data[-2:], "big")):
                 self._bad_crc_seen = True
@@ -234,7 +237,7 @@ class ModbusTorqueSensor(TorqueSensor):
         client = self._client
         if client is None:
             raise ConnectionLostError(f"{self.name}: not connected")
-        self._bad_crc_seen = False
+        self._bad_crc_seen = self._reply_bytes_seen = False
         try:
             rr = self._run(lambda: client.read_holding_registers(address, count=count, device_id=self.unit))
         except ConnectionException as err:
@@ -242,6 +245,8 @@ class ModbusTorqueSensor(TorqueSensor):
         except (ModbusException, asyncio.TimeoutError):
             if self._bad_crc_seen:
                 self.stats.crc_errors += 1
+            elif not self._reply_bytes_seen:  # silence: the poll timed out (a loaded host, a dead line)
+                self.stats.poll_timeouts += 1
             else:
                 self.stats.malformed_frames += 1
             return None

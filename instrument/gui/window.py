@@ -19,7 +19,7 @@ from PySide6 import QtCore, QtGui, QtWidgets
 
 from analysis.trial_csv import SUBJECT_RANGES
 
-from ..acquisition import AcquisitionEngine
+from ..acquisition import AcquisitionEngine, device_health_text
 from ..analyses import analyse_set
 from ..protocols import (
     AADS_SPRINGS_N_PER_M,
@@ -583,12 +583,9 @@ class MainWindow(QtWidgets.QMainWindow):
     def _health(self, engine: AcquisitionEngine) -> None:
         parts = []
         for name, dev in engine.devices.items():
-            st = dev.stats
-            rate = st.rate_hz()
             # a device the trial closed on purpose is "closed"; only a lost link is shouted
             state = "closed" if dev.closed else ("connected" if dev.connected else "DISCONNECTED")
-            parts.append(f"{name}: {state}, {rate:.0f} Hz, {st.gaps} gaps, {st.lost_samples} lost"
-                         if np.isfinite(rate) else f"{name}: {state}")
+            parts.append(device_health_text(name, state, dev.stats))
         parts.append(f"GUI {self.frames.fps():.0f} fps")
         self.health.setText(" | ".join(parts))
 

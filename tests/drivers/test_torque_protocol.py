@@ -115,6 +115,27 @@ def test_a_valid_crc_reply_with_the_wrong_register_count_is_a_counted_bad_frame(
         sensor.close()
 
 
+def test_an_unanswered_poll_is_a_poll_timeout_and_half_a_reply_a_bad_frame() -> None:
+    """Silence (a loaded host, a dead line) and a damaged reply are counted apart, so the operator can tell them."""
+    opening = [(rtu("010300210002"), rtu("010304" + "00000000")), (rtu("010300160001"), rtu("010302" + "0000")),
+               (rtu("010300170001"), rtu("018302"))]
+    pairs = opening + [(rtu("010300000002"), b""),                       # no reply at all
+                       (rtu("010300000002"), rtu("010304" + "3fc00000")[:4]),  # the reply cut off
+                       (rtu("010300000002"), rtu("010304" + "3fc00000"))]
+    with expected_protocol(pairs) as peer:
+        sensor = open_torque_sensor(f"modbus-rtu+socket://127.0.0.1:{peer.port}?timeout=0.1")
+        sensor.open()
+        with pytest.raises(DeviceTimeoutError):
+            sensor.read_torque_nm()
+        assert (sensor.stats.poll_timeouts, sensor.stats.malformed_frames, sensor.stats.crc_errors) == (1, 0, 0)
+        with pytest.raises(DeviceTimeoutError):
+            sensor.read_torque_nm()
+        assert sensor.stats.poll_timeouts == 1
+        assert sensor.stats.malformed_frames + sensor.stats.crc_errors == 1
+        assert sensor.read_torque_nm() == 1.5
+        sensor.close()
+
+
 def test_a_word_order_the_transmitter_does_not_use_is_refused_at_open() -> None:
     from drivers.errors import DeviceInitializationError
 

@@ -72,3 +72,14 @@ def test_device_vanishing_mid_trial_keeps_the_data_and_marks_the_trial(tmp_path:
     assert trial.devices["mocap"].samples > 250
     assert any(e["kind"] == "device_error" and e["device"] == "force_plate" for e in trial.events)
     assert store.trial(out.trial_id).status == "interrupted"
+
+
+def test_the_health_line_tells_unanswered_polls_from_bad_frames() -> None:
+    from drivers import DeviceStats
+    from instrument.acquisition import device_health_text
+
+    st = DeviceStats(samples=101, gaps=2, lost_samples=3, first_time_s=0.0, last_time_s=1.0)
+    assert device_health_text("torque_sensor", "connected", st) == "torque_sensor: connected, 100 Hz, 2 gaps, 3 lost"
+    st.poll_timeouts, st.crc_errors, st.malformed_frames = 2, 1, 0
+    assert device_health_text("torque_sensor", "connected", st).endswith("3 lost, 2 unanswered polls, 1 bad frames")
+    assert device_health_text("mocap", "closed", DeviceStats()) == "mocap: closed"
