@@ -50,6 +50,17 @@ END_EXP_RATES_PER_RAD: dict[str, tuple[tuple[float, ...], tuple[float, ...]]] = 
     "knee": ((3.0, 9.0), (3.0,)),
     "ankle": ((), (3.0, 9.0)),
 }
+
+def steep_end(kind: str) -> str | None:
+    """The end of a joint's range (``"low"`` or ``"high"``) where its passive moment stiffens steeply (the
+    baseline's steepest exponential sits there); None for a kind without one (the orthosis's spring)."""
+    ends = END_EXP_RATES_PER_RAD.get(kind)
+    if not ends:
+        return None
+    low, high = (max(rates, default=0.0) for rates in ends)
+    return "low" if low > high else "high" if high > low else None
+
+
 #: the part of a joint's range, at either end, over which a hard stop may engage: a stop (the end of
 #: the range of motion, a hinge or a mechanical limit) acts over a few degrees, here at most 20 % of
 #: the range (9° of an ankle's 45°, 18° of a knee's 90°); a "stop" acting over more of the range is a

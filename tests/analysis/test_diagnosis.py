@@ -168,3 +168,12 @@ def test_passive_causes_keep_their_physical_sign_on_a_delayed_torque(delay_s: fl
         fit = fit_cause(prep, CAUSES[name])
         extension = fit.coef[fit.n_base:]
         assert extension.size == 1 and extension[0] >= 0.0, (name, fit.params)
+
+
+def test_the_steep_end_of_a_joint_is_where_its_baseline_stiffens_fastest() -> None:
+    from analysis.diagnosis.causes import END_EXP_RATES_PER_RAD, steep_end
+
+    assert steep_end("knee") == "low"    # knee extension: the hamstrings, Riener's 8.6 /rad term
+    assert steep_end("ankle") == "high"  # ankle dorsiflexion: the triceps surae
+    assert steep_end("afo") is None
+    assert max(END_EXP_RATES_PER_RAD["knee"][0]) > max(END_EXP_RATES_PER_RAD["knee"][1])
