@@ -236,12 +236,14 @@ def _compliant_columns(prep: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarra
     return baseline_columns(prep.trial.kind, th, prep.lo, prep.hi, prep.flexible), np.zeros((prep.t.size, 0)), np.ones(prep.t.size, bool)
 
 
-def _stop_column(prep: Prepared, stop: float) -> np.ndarray:
+def _stop_column(prep: Prepared, stop: float, theta: np.ndarray | None = None) -> np.ndarray:
     """Penetration past a stop (rad): past the top of the range when the stop is in its upper half,
-    below the bottom (negative: the stop pushes back toward positive angles) when in its lower half."""
+    below the bottom (negative: the stop pushes back toward positive angles) when in its lower half.
+    ``theta`` (rad): the angle the torque answers to, if not the measured one (a delayed channel)."""
+    th = prep.theta if theta is None else theta
     if stop >= 0.5 * (prep.lo + prep.hi):
-        return np.maximum(prep.theta - stop, 0.0)
-    return -np.maximum(stop - prep.theta, 0.0)
+        return np.maximum(th - stop, 0.0)
+    return -np.maximum(stop - th, 0.0)
 
 
 def _stop_grid(prep: Prepared) -> list[np.ndarray]:
@@ -362,7 +364,12 @@ def compound(first: Cause, second: Cause) -> Cause:
     def columns(p: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         a, b = tuple(nl[:_nl_count(first)]), tuple(nl[_nl_count(first):])
         base, e1, v1 = first.columns(p, a)
-        _, e2, v2 = second.columns(p, b)
+        if first.name == "time_delay" and second.name == "hard_stop":
+            # a lagging torque channel lags the stop's torque too: it answers to the delayed angle, like the
+            # baseline (friction and damping answer to the velocity, which a delay changes only at reversals)
+            e2, v2 = _stop_column(p, b[0], np.interp(p.t - a[0], p.t, p.theta))[:, None], np.ones(p.t.size, bool)
+        else:
+            _, e2, v2 = second.columns(p, b)
         return base, np.hstack([e1, e2]), v1 & v2
 
     def report(c: np.ndarray, nl: tuple[float, ...]) -> dict[str, float]:
