@@ -366,7 +366,9 @@ def compound(first: Cause, second: Cause) -> Cause:
         base, e1, v1 = first.columns(p, a)
         if first.name == "time_delay" and second.name == "hard_stop":
             # a lagging torque channel lags the stop's torque too: it answers to the delayed angle, like the
-            # baseline (friction and damping answer to the velocity, which a delay changes only at reversals)
+            # baseline (friction and damping answer to the velocity, which a delay changes only at reversals).
+            # Fresh seeds of the independent generator (80000–80019, 90000–90049): stop + delay pairs named
+            # 48 → 56 of 60 (all kinds) and 41 → 46 of 50 (AFO); delay alone 57 → 57 of 60 and 48 → 47 of 50
             e2, v2 = _stop_column(p, b[0], np.interp(p.t - a[0], p.t, p.theta))[:, None], np.ones(p.t.size, bool)
         else:
             _, e2, v2 = second.columns(p, b)
