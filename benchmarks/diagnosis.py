@@ -166,7 +166,7 @@ def run(quick: bool = False) -> dict[str, Any]:
     all_mags = [x for xs in mags.values() for x in xs]
     s100 = _speed(100.0)
     s1000 = _speed(1000.0)
-    out = {
+    out: dict[str, Any] = {
         "quick": quick, "trials": n_trials,
         "accuracy": rate(singles), "pair_accuracy": rate(pairs), "false_alarm_rate": 1.0 - rate(clean),
         "sindy_accuracy": rate(sindy), "sindy_pair_accuracy": rate(sindy_pairs),

@@ -4,10 +4,13 @@
 enough to compare with the peer, too few to measure a false-alarm rate near 2 %. This one draws
 150 clean trials per kind (seeds 8000–8149), 8 per single effect (9000–9007) and 3 per pair
 (9500–9502) from the same independent generator (:mod:`benchmarks.diagnosis_truth`), half with
-nuisances, and diagnoses them on two processes.
+nuisances, and diagnoses them on two processes. A second set has fast isokinetic sweeps (20 and
+30 °/s, a third of the protocol's trial length): 30 clean trials per kind (10000–10029), 6 per
+single effect (11000–11005) and 2 per pair (12000–12001).
 
 Keys: ``false_alarm_rate``, ``false_alarm_rate_by_kind``, ``accuracy``, ``accuracy_by_cause``,
-``pair_accuracy``, ``pair_accuracy_by_pair``, ``misses`` (kind, hidden, seed, named), ``trials``.
+``pair_accuracy``, ``pair_accuracy_by_pair``, ``misses`` (kind, hidden, seed, named), ``trials``;
+``fast_sweeps`` holds the same keys for the fast set.
 """
 
 from __future__ import annotations
@@ -23,32 +26,41 @@ from benchmarks.diagnosis import INSEPARABLE, KINDS, as_trial, is_right, named_c
 from benchmarks.diagnosis_truth import EFFECTS, generate
 
 CLEAN_SEED, SINGLE_SEED, PAIR_SEED = 8000, 9000, 9500
+FAST_CLEAN_SEED, FAST_SINGLE_SEED, FAST_PAIR_SEED = 10000, 11000, 12000
 
 
-def _one(job: tuple[str, tuple[str, ...], int]) -> tuple[str, tuple[str, ...], int, list[str], bool]:
+def _one(job: tuple[str, tuple[str, ...], int, bool]) -> tuple[str, tuple[str, ...], int, list[str], bool]:
     from analysis.diagnosis import diagnose
 
-    kind, effects, seed = job
-    g = generate(kind, effects, seed, nuisances=bool(seed % 2))
+    kind, effects, seed, fast = job
+    g = generate(kind, effects, seed, nuisances=bool(seed % 2), fast=fast)
     d = diagnose(as_trial(g))
     return kind, effects, seed, sorted(named_causes(d)), is_right(d, g)
 
 
-def jobs(clean: int, singles: int, pairs: int) -> list[tuple[str, tuple[str, ...], int]]:
-    out: list[tuple[str, tuple[str, ...], int]] = []
+def jobs(clean: int, singles: int, pairs: int, fast: bool = False) -> list[tuple[str, tuple[str, ...], int, bool]]:
+    seeds = (FAST_CLEAN_SEED, FAST_SINGLE_SEED, FAST_PAIR_SEED) if fast else (CLEAN_SEED, SINGLE_SEED, PAIR_SEED)
+    out: list[tuple[str, tuple[str, ...], int, bool]] = []
     for kind in KINDS:
-        out += [(kind, (), CLEAN_SEED + s) for s in range(clean)]
+        out += [(kind, (), seeds[0] + s, fast) for s in range(clean)]
         for cause in EFFECTS[kind]:
-            out += [(kind, (cause,), SINGLE_SEED + s) for s in range(singles)]
+            out += [(kind, (cause,), seeds[1] + s, fast) for s in range(singles)]
         for a, b in itertools.combinations(EFFECTS[kind], 2):
             if frozenset({a, b}) in INSEPARABLE or "gravity_error" in (a, b):
                 continue
-            out += [(kind, (a, b), PAIR_SEED + s) for s in range(pairs)]
+            out += [(kind, (a, b), seeds[2] + s, fast) for s in range(pairs)]
     return out
 
 
 def run(quick: bool = False) -> dict[str, Any]:
-    todo = jobs(*((20, 2, 1) if quick else (150, 8, 3)))
+    out = _score(jobs(*((20, 2, 1) if quick else (150, 8, 3))))
+    print("\nfast sweeps (20 and 30 °/s):")
+    out["fast_sweeps"] = _score(jobs(*((6, 1, 1) if quick else (30, 6, 2)), fast=True))
+    out["quick"] = quick
+    return out
+
+
+def _score(todo: list[tuple[str, tuple[str, ...], int, bool]]) -> dict[str, Any]:
     clean: dict[str, list[bool]] = defaultdict(list)
     single: dict[str, list[bool]] = defaultdict(list)
     pair: dict[str, list[bool]] = defaultdict(list)
@@ -63,7 +75,7 @@ def run(quick: bool = False) -> dict[str, Any]:
     def rate(d: dict[str, list[bool]]) -> float:
         return float(np.mean([x for v in d.values() for x in v]))
 
-    out: dict[str, Any] = {"quick": quick, "trials": len(todo),
+    out: dict[str, Any] = {"trials": len(todo),
            "false_alarm_rate": 1.0 - rate(clean),
            "false_alarm_rate_by_kind": {k: 1.0 - float(np.mean(v)) for k, v in clean.items()},
            "clean_trials_per_kind": {k: len(v) for k, v in clean.items()},

@@ -102,6 +102,15 @@ class Prepared:
     gram_cache: dict[bytes, Any] = field(default_factory=dict, repr=False)
     grid_residual: np.ndarray | None = field(default=None, repr=False)  # what a burst's matched filter scans
     arg_cache: dict[tuple[Any, ...], Any] = field(default_factory=dict, repr=False)
+    t_whole: np.ndarray | None = field(default=None, repr=False)      # the trial's time and angle before any
+    theta_whole: np.ndarray | None = field(default=None, repr=False)  # cut (the AFO's engagement): what a delay reads
+
+    def delayed_theta(self, delay_s: float) -> np.ndarray:
+        """The angle (rad) ``delay_s`` earlier at each kept sample, read from the whole trial: across an AFO's
+        cut below the spring's engagement the angle went down and back, which the kept samples cannot show."""
+        t = self.t if self.t_whole is None else self.t_whole
+        theta = self.theta if self.theta_whole is None else self.theta_whole
+        return np.interp(self.t - delay_s, t, theta)
 
     def as_flexible(self) -> "Prepared":
         """The same signals with the flexible baseline."""
@@ -126,7 +135,8 @@ class Prepared:
         known = grav + trial.known_inertia_kgm2() * alpha  # the limb's weight and the known moving inertia
         return cls(trial, trial.time_s[keep], th, trial.velocity_rad_s()[keep], (trial.torque_nm - known)[keep],
                    savgol_filter(trial.torque_nm, n, 2)[keep], float(th.min()), float(th.max()), grav[keep],
-                   trial.gravity_shape()[keep], trial.torque_nm[keep], alpha[keep])
+                   trial.gravity_shape()[keep], trial.torque_nm[keep], alpha[keep],
+                   t_whole=trial.time_s, theta_whole=trial.angle_rad)
 
 
 def normal_lstsq(x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -221,9 +231,9 @@ def _delayed(prep: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray, np.ndar
 
 def _delayed_columns(prep: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     d = nl[0]
-    th = np.interp(prep.t - d, prep.t, prep.theta)
+    th = prep.delayed_theta(d)
     # the delayed angle must lie in the range the trial describes (an AFO's is cut at the spring's engagement)
-    valid = (prep.t - d >= prep.t[0]) & (th >= prep.lo)
+    valid = (prep.t - d >= (prep.t if prep.t_whole is None else prep.t_whole)[0]) & (th >= prep.lo)
     return baseline_columns(prep.trial.kind, th, prep.lo, prep.hi, prep.flexible), np.zeros((prep.t.size, 0)), valid
 
 
@@ -367,9 +377,12 @@ def compound(first: Cause, second: Cause) -> Cause:
         if first.name == "time_delay" and second.name == "hard_stop":
             # a lagging torque channel lags the stop's torque too: it answers to the delayed angle, like the
             # baseline (friction and damping answer to the velocity, which a delay changes only at reversals).
-            # Fresh seeds of the independent generator (80000–80019, 90000–90049): stop + delay pairs named
-            # 48 → 56 of 60 (all kinds) and 41 → 46 of 50 (AFO); delay alone 57 → 57 of 60 and 48 → 47 of 50
-            e2, v2 = _stop_column(p, b[0], np.interp(p.t - a[0], p.t, p.theta))[:, None], np.ones(p.t.size, bool)
+            # With the delayed angle read from the whole trial (Prepared.delayed_theta), on fresh seeds of the
+            # independent generator: stop + delay pairs named 48 → 54 of 60 (80000–80019, all kinds), delay
+            # alone 57 → 59 of 60; AFO (90000–90049) pairs 41 → 40 of 50, delay alone 48 → 50 of 50. Delaying
+            # the stop with the angle interpolated across the AFO's 6° cut had named 46 pairs, but also stops
+            # beside the delay's leftovers at the cut (47 of 50 delays alone)
+            e2, v2 = _stop_column(p, b[0], p.delayed_theta(a[0]))[:, None], np.ones(p.t.size, bool)
         else:
             _, e2, v2 = second.columns(p, b)
         return base, np.hstack([e1, e2]), v1 & v2

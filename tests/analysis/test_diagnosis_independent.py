@@ -115,6 +115,16 @@ def test_a_pair_tried_whole_replaces_a_forward_step_led_astray() -> None:
         assert is_right(d, g), (seed, sorted(named_causes(d)))
 
 
+def test_a_delay_reads_the_angle_the_orthosis_had_below_its_cut() -> None:
+    """An AFO trial is diagnosed above 6° only; a delayed angle interpolated across that cut (the angle went
+    down to ~0° and back) is wrong for the first ``delay`` of every bend, and a "stop" took the leftovers:
+    these three delay trials (250 and 1000 Hz) were named delay + stop. Read from the whole trial, delay alone."""
+    for seed in (1001, 11001, 11005):
+        g = generate("afo", ("time_delay",), seed, nuisances=True)
+        d = diagnose(as_trial(g))
+        assert sorted(named_causes(d)) == ["time_delay"], (seed, sorted(named_causes(d)))
+
+
 def test_a_limb_weight_error_in_one_configuration_is_reported_untestable_not_guessed() -> None:
     g = generate("knee", ("gravity_error",), 5)
     d = diagnose(as_trial(g))
