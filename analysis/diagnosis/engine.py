@@ -752,12 +752,12 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
     for a, b in itertools.combinations(top, 2):
         if (a in ARGUMENT_CAUSES and b in ARGUMENT_CAUSES) or {a, b} == set(chosen):
             continue
-        ea = search.evidence((a, b), (b,))
-        if not ea.accepted or not search.evidence((a, b), (a,)).accepted:
-            continue
         _, pf = search.fit((a, b))
-        d = _bic(pf, ea.n_eff) - _bic(ref_fit, ea.n_eff)
-        if d < (0.0 if len(chosen) == 2 else -min_delta_bic) and (best_pair is None or d < best_pair[0]):
+        pair_n_eff = effective_n(prep.torque - pf.prediction)  # the n_eff evidence() judges the pair at
+        d = _bic(pf, pair_n_eff) - _bic(ref_fit, pair_n_eff)
+        if d >= (0.0 if len(chosen) == 2 else -min_delta_bic) or (best_pair is not None and d >= best_pair[0]):
+            continue  # the criterion alone rules it out: its held-out folds are not needed
+        if search.evidence((a, b), (b,)).accepted and search.evidence((a, b), (a,)).accepted:
             best_pair = (d, (a, b))
     if best_pair is not None:
         a, b = best_pair[1]
