@@ -105,12 +105,13 @@ class Prepared:
     t_whole: np.ndarray | None = field(default=None, repr=False)      # the trial's time and angle before any
     theta_whole: np.ndarray | None = field(default=None, repr=False)  # cut (the AFO's engagement): what a delay reads
 
-    def delayed_theta(self, delay_s: float) -> np.ndarray:
-        """The angle (rad) ``delay_s`` earlier at each kept sample, read from the whole trial: across an AFO's
-        cut below the spring's engagement the angle went down and back, which the kept samples cannot show."""
+    def delayed_theta(self, delay_s: float) -> tuple[np.ndarray, np.ndarray]:
+        """The angle (rad) ``delay_s`` earlier at each kept sample, read from the whole trial (across an AFO's
+        cut below the spring's engagement the angle went down and back, which the kept samples cannot show),
+        and where that earlier time lies inside the trial."""
         t = self.t if self.t_whole is None else self.t_whole
         theta = self.theta if self.theta_whole is None else self.theta_whole
-        return np.interp(self.t - delay_s, t, theta)
+        return np.interp(self.t - delay_s, t, theta), self.t - delay_s >= t[0]
 
     def as_flexible(self) -> "Prepared":
         """The same signals with the flexible baseline."""
@@ -231,9 +232,9 @@ def _delayed(prep: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray, np.ndar
 
 def _delayed_columns(prep: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     d = nl[0]
-    th = prep.delayed_theta(d)
+    th, inside = prep.delayed_theta(d)
     # the delayed angle must lie in the range the trial describes (an AFO's is cut at the spring's engagement)
-    valid = (prep.t - d >= (prep.t if prep.t_whole is None else prep.t_whole)[0]) & (th >= prep.lo)
+    valid = inside & (th >= prep.lo)
     return baseline_columns(prep.trial.kind, th, prep.lo, prep.hi, prep.flexible), np.zeros((prep.t.size, 0)), valid
 
 
@@ -382,7 +383,7 @@ def compound(first: Cause, second: Cause) -> Cause:
             # alone 57 → 59 of 60; AFO (90000–90049) pairs 41 → 40 of 50, delay alone 48 → 50 of 50. Delaying
             # the stop with the angle interpolated across the AFO's 6° cut had named 46 pairs, but also stops
             # beside the delay's leftovers at the cut (47 of 50 delays alone)
-            e2, v2 = _stop_column(p, b[0], p.delayed_theta(a[0]))[:, None], np.ones(p.t.size, bool)
+            e2, v2 = _stop_column(p, b[0], p.delayed_theta(a[0])[0])[:, None], np.ones(p.t.size, bool)
         else:
             _, e2, v2 = second.columns(p, b)
         return base, np.hstack([e1, e2]), v1 & v2
