@@ -17,7 +17,8 @@ report says so and names the trial that would separate it). Magnitudes: |fitted 
 Keys: ``accuracy`` (single effects), ``pair_accuracy``, ``false_alarm_rate`` (clean trials), the
 peer's ``sindy_accuracy``, ``sindy_pair_accuracy``, ``sindy_false_alarm_rate`` and their
 ``sindy_1se_*`` twins, ``seconds_per_trial`` (and ``sindy_seconds_per_trial``),
-``magnitude_within_15pct``, ``seconds_100hz_60s``, ``seconds_1000hz_60s``, per-cause and per-pair
+``magnitude_within_15pct``, ``magnitude_interval_coverage`` (how often the reported 95 % interval of a
+named cause's magnitude holds the truth, singles and pairs, and per cause), ``seconds_100hz_60s``, ``seconds_1000hz_60s``, per-cause and per-pair
 tables for both.
 """
 
@@ -69,6 +70,21 @@ def magnitude_errors(d: Any, g: IndependentTrial) -> dict[str, float]:
     return out
 
 
+def interval_hits(d: Any, g: IndependentTrial, z: float = 1.96) -> dict[str, bool]:
+    """Per named hidden cause: whether the reported 95 % interval (± ``z`` standard errors) of its
+    magnitude holds the truth. A cause reported without a finite standard error counts as a miss."""
+    out = {}
+    params = dict(d.parameters)
+    for a in d.also:
+        params.update(a["parameters"])
+    for cause, truth in g.effects.items():
+        key = MAGNITUDE_KEY[cause]
+        if cause in named_causes(d) and key in params and truth:
+            se = float(d.parameters_se.get(key, float("nan")))
+            out[cause] = bool(np.isfinite(se) and abs(abs(params[key]) - truth) <= z * se)
+    return out
+
+
 def _peer(job: tuple[str, tuple[str, ...], int, bool]) -> Any:
     from threadpoolctl import threadpool_limits  # scikit-learn's, which PySINDy needs
 
@@ -104,6 +120,7 @@ def run(quick: bool = False) -> dict[str, Any]:
     singles: dict[str, list[bool]] = defaultdict(list)
     sindy: dict[str, list[bool]] = defaultdict(list)
     mags: dict[str, list[float]] = defaultdict(list)
+    covered: dict[str, list[bool]] = defaultdict(list)
     clean: dict[str, list[bool]] = defaultdict(list)
     pairs: dict[str, list[bool]] = defaultdict(list)
 
@@ -151,6 +168,8 @@ def run(quick: bool = False) -> dict[str, Any]:
             sindy_pairs_1se[key].append(at_1se)
         for c, e in magnitude_errors(d, g).items():
             mags[f"{kind}/{c}" + (" (pair)" if len(effects) == 2 else "")].append(e)
+        for c, hit in interval_hits(d, g).items():
+            covered[f"{kind}/{c}"].append(hit)
     stop_threshold: dict[str, dict[str, float]] = {}
     for kind in KINDS:
         stop_threshold[kind] = {}
@@ -185,6 +204,8 @@ def run(quick: bool = False) -> dict[str, Any]:
         "magnitude_within_15pct": float(np.mean(np.array(all_mags) <= 0.15)) if all_mags else float("nan"),
         "magnitude_median_error": float(np.median(all_mags)) if all_mags else float("nan"),
         "magnitude_error_by_cause": {k: float(np.median(v)) for k, v in mags.items()},
+        "magnitude_interval_coverage": rate(covered),
+        "magnitude_interval_coverage_by_cause": {k: float(np.mean(v)) for k, v in sorted(covered.items())},
         "hard_stop_detection_by_size": stop_threshold,
         "seconds_per_trial": t_total / n_trials, "sindy_seconds_per_trial": t_peer,
         "seconds_100hz_60s": s100, "seconds_1000hz_60s": s1000, "seconds_ratio_1000_to_100hz": s1000 / s100,
@@ -202,6 +223,9 @@ def run(quick: bool = False) -> dict[str, Any]:
     for label, key in (("single effects", "accuracy"), ("both causes of a pair", "pair_accuracy"),
                        ("false alarms (clean)", "false_alarm_rate")):
         print(f"{label:<24}{out[key]:>10.3f}{out['sindy_' + key]:>8.3f}{out['sindy_1se_' + key]:>10.3f}")
+    print(f"\n95 % intervals of the magnitudes holding the truth: {out['magnitude_interval_coverage']:.3f}")
+    for k, v in out["magnitude_interval_coverage_by_cause"].items():
+        print(f"  {k:<30}{v:>6.2f}  ({len(covered[k])})")
     print(f"\nhard stop found, by size: {stop_threshold}")
     print(f"\nsingle effects {out['accuracy']:.3f} (SINDy {out['sindy_accuracy']:.3f}); pairs {out['pair_accuracy']:.3f}; "
           f"false alarms {out['false_alarm_rate']:.3f} {out['false_alarm_rate_by_kind']}; magnitudes within 15 %: "

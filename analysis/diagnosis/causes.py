@@ -121,10 +121,6 @@ class Prepared:
     def of(cls, trial: DiagnosisTrial, min_angle_deg: float | None = None) -> "Prepared":
         """Signals of ``trial``; ``min_angle_deg`` keeps only samples at or above that angle (velocity
         is taken on the whole trial first, so the cut does not bend it)."""
-        from scipy.signal import savgol_filter
-
-        n = max(5, int(round(0.15 * trial.rate_hz)) | 1)
-        n = min(n, trial.time_s.size if trial.time_s.size % 2 else trial.time_s.size - 1)
         grav = trial.limb_gravity_nm()
         keep = np.ones(trial.time_s.size, dtype=bool) if min_angle_deg is None else \
             trial.angle_rad >= np.deg2rad(min_angle_deg)
@@ -132,10 +128,10 @@ class Prepared:
             raise InputError(f"{trial.source or 'trial'}: {int(keep.sum())} samples at or above {min_angle_deg}°; "
                              "the diagnosis needs 50")
         th = trial.angle_rad[keep]
-        alpha = savgol_filter(trial.angle_rad, n, 3, deriv=2, delta=1.0 / trial.rate_hz)
+        alpha = trial.savgol(trial.angle_rad, 0.15, 3, 2)
         known = grav + trial.known_inertia_kgm2() * alpha  # the limb's weight and the known moving inertia
         return cls(trial, trial.time_s[keep], th, trial.velocity_rad_s()[keep], (trial.torque_nm - known)[keep],
-                   savgol_filter(trial.torque_nm, n, 2)[keep], float(th.min()), float(th.max()), grav[keep],
+                   trial.savgol(trial.torque_nm, 0.15, 2)[keep], float(th.min()), float(th.max()), grav[keep],
                    trial.gravity_shape()[keep], trial.torque_nm[keep], alpha[keep],
                    t_whole=trial.time_s, theta_whole=trial.angle_rad)
 

@@ -55,6 +55,7 @@ from .causes import (
     Prepared,
     _ext_count,
     _nl_count,
+    _signs,
     baseline_columns,
     burst_bounds,
     compound,
@@ -276,40 +277,66 @@ def absorbed_by_baseline(prep: Prepared, cause: Cause, fit: CauseFit) -> float:
 
 
 def parameter_se(prep: Prepared, cause: Cause, fit: CauseFit, n_eff: float) -> dict[str, float]:
-    """Standard errors of the reported parameters: least-squares covariance of the coefficients and the
-    curvature of the profiled residual sum of squares for the nonlinear ones, both inflated by n / n_eff."""
+    """Standard errors of the reported parameters from the joint (Gauss–Newton) covariance of the linear
+    coefficients and the nonlinear parameters, inflated by n / n_eff, carried to the reported parameters
+    by the delta method.
+
+    Joint, not conditional: a friction's amplitude trades against its tanh width, a stop's stiffness
+    against its angle, a burst's amplitude against its duration. Taken with the nonlinear parameters
+    held fixed (as before), the 95 % intervals of friction amplitudes covered the independent
+    generator's truth in 0.56–0.67 of trials and a knee stop's stiffness in 0.89 (seeds 140000–141001).
+    Coefficients held at their physical bound (0) are held there.
+    """
     if cause.name == "none":
         return {}
-    base, ext, valid = cause.columns(prep, fit.nonlinear)
-    x = np.hstack([base, ext])[valid]
+    nl0 = tuple(float(v) for v in fit.nonlinear)
+    base, ext, valid = cause.columns(prep, nl0)
+    steps = [max(abs(v) * 1e-3, 1e-4) for v in nl0]
+    shifted = []
+    for j, h in enumerate(steps):
+        pair = []
+        for sign in (1.0, -1.0):
+            nl = list(nl0)
+            nl[j] += sign * h
+            b_j, e_j, v_j = cause.columns(prep, tuple(nl))
+            valid = valid & v_j
+            pair.append(np.hstack([b_j, e_j]) @ fit.coef)
+        shifted.append((pair[0] - pair[1]) / (2 * h))
+    x = np.hstack([base, ext])
+    free = np.ones(x.shape[1], dtype=bool)
+    free[fit.n_base:] = ~((fit.coef[fit.n_base:] == 0.0) & (np.array(_signs(cause)) != 0))
+    jac = np.column_stack([x[:, free]] + [d[:, None] for d in shifted])[valid]
     dof = max(fit.n - fit.n_params, 1)
     s2 = fit.rss / dof * (fit.n / n_eff)
-    scale = np.maximum(np.abs(x).max(axis=0), 1e-12)
+    scale = np.maximum(np.abs(jac).max(axis=0), 1e-12)
     try:
-        cov = np.linalg.inv((x / scale).T @ (x / scale)) / np.outer(scale, scale) * s2
+        cov = np.linalg.pinv((jac / scale).T @ (jac / scale)) / np.outer(scale, scale) * s2
     except np.linalg.LinAlgError:
         return {}
-    se_c = np.sqrt(np.maximum(np.diag(cov), 0.0))[fit.n_base:]
-    ref = cause.report(fit.coef[fit.n_base:], fit.nonlinear)
-    var = {k: 0.0 for k in ref}
-    for i in range(se_c.size):
-        c = fit.coef[fit.n_base:].copy()
-        c[i] += se_c[i]
-        for k, v in cause.report(c, fit.nonlinear).items():
-            var[k] += (v - ref[k]) ** 2
-    for j, v0 in enumerate(fit.nonlinear):
-        h = max(abs(v0) * 1e-3, 1e-4)
-        nl_p = list(fit.nonlinear); nl_p[j] = v0 + h
-        nl_m = list(fit.nonlinear); nl_m[j] = v0 - h
-        rss = [_solve(prep, cause, tuple(nl), np.ones(prep.t.size, bool))[0] for nl in (nl_m, fit.nonlinear, nl_p)]
-        curv = (rss[0] - 2 * rss[1] + rss[2]) / h**2
-        if curv <= 0:
-            continue
-        se_nl = math.sqrt(2 * s2 / curv)
-        nl_se = list(fit.nonlinear); nl_se[j] = v0 + se_nl
-        for k, v in cause.report(fit.coef[fit.n_base:], tuple(nl_se)).items():
-            var[k] += (v - ref[k]) ** 2
-    return {k: math.sqrt(v) for k, v in var.items()}
+    # the reported parameters' gradients with respect to (free extension coefficients, nonlinear parameters)
+    n_ext = x.shape[1] - fit.n_base
+    ext_free = [i for i in range(n_ext) if free[fit.n_base + i]]
+    idx_ext = {i: int(np.sum(free[:fit.n_base + i])) for i in ext_free}
+    idx_nl = [int(free.sum()) + j for j in range(len(nl0))]
+    c0 = fit.coef[fit.n_base:].copy()
+    ref = cause.report(c0, nl0)
+    grad = {k: np.zeros(jac.shape[1]) for k in ref}
+    for i in ext_free:
+        h = max(abs(c0[i]) * 1e-6, 1e-9)
+        c = c0.copy()
+        c[i] += h
+        for k, v in cause.report(c, nl0).items():
+            grad[k][idx_ext[i]] = (v - ref[k]) / h
+    for j, h in enumerate(steps):
+        nl = list(nl0)
+        nl[j] += h
+        for k, v in cause.report(c0, tuple(nl)).items():
+            grad[k][idx_nl[j]] = (v - ref[k]) / h
+    out = {}
+    for k, g in grad.items():
+        var = float(g @ cov @ g)
+        out[k] = math.sqrt(var) if math.isfinite(var) and var > 0 else float("nan")
+    return out
 
 
 def systematic_regions(prep: Prepared, residual: np.ndarray, n_eff: float, bins: int = 10) -> list[dict[str, Any]]:
