@@ -21,6 +21,7 @@ it, so a passive curve the parametric baseline does not span is never mistaken f
 from __future__ import annotations
 
 import dataclasses
+import functools
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -34,6 +35,15 @@ FRICTION_SPEED_RAD_S = np.deg2rad(1.0)  # tanh width of a Coulomb term where one
 #: the widths (rad/s) the diagnosis tries for the Coulomb term's tanh: a sharp sign change (dry
 #: friction) to a gradual one (Stribeck, or friction seen through the smoothed velocity)
 FRICTION_WIDTHS_RAD_S = np.deg2rad(np.array([0.25, 0.5, 1.0, 2.0, 4.0]))
+#: smooth Coulomb laws s(v) of the same slope at zero (v = velocity / width): friction = amplitude · s(v).
+#: They approach the amplitude differently (exponentially, algebraically, like 1/v), and a trial of
+#: slow sweeps tells them apart only weakly, so the amplitude's interval averages over them (see
+#: engine.average_shapes); the search itself uses the first
+FRICTION_LAWS: dict[str, Callable[[np.ndarray], np.ndarray]] = {
+    "tanh": np.tanh,
+    "algebraic": lambda v: v / np.sqrt(1.0 + v * v),
+    "arctan": lambda v: (2.0 / np.pi) * np.arctan(0.5 * np.pi * v),
+}
 #: rates (1/rad) of the baseline's stiffening exponentials at the (low, high) end of each joint's range.
 #: Passive joint moments are sums of such terms, steep at one end only: knee extension (Riener &
 #: Edrich 1999: 0.150 /° = 8.6 /rad; the hamstrings in this project's muscle model) and ankle
@@ -104,6 +114,12 @@ class Prepared:
     arg_cache: dict[tuple[Any, ...], Any] = field(default_factory=dict, repr=False)
     t_whole: np.ndarray | None = field(default=None, repr=False)      # the trial's time and angle before any
     theta_whole: np.ndarray | None = field(default=None, repr=False)  # cut (the AFO's engagement): what a delay reads
+    end_terms: tuple[tuple[str, float], ...] = ()  # exponentials added to a joint's baseline (baseline_columns)
+
+    def baseline(self, theta: np.ndarray | None = None) -> np.ndarray:
+        """The baseline basis at ``theta`` (rad; default the measured angle)."""
+        return baseline_columns(self.trial.kind, self.theta if theta is None else theta, self.lo, self.hi,
+                                self.flexible, self.end_terms)
 
     def delayed_theta(self, delay_s: float) -> tuple[np.ndarray, np.ndarray]:
         """The angle (rad) ``delay_s`` earlier at each kept sample, read from the whole trial (across an AFO's
@@ -116,6 +132,11 @@ class Prepared:
     def as_flexible(self) -> "Prepared":
         """The same signals with the flexible baseline."""
         return dataclasses.replace(self, base_cache=None, flexible=True, gram_cache={}, arg_cache={})
+
+    def with_end_term(self, end: str, rate_per_rad: float) -> "Prepared":
+        """The same signals with one more exponential at ``end`` (``"low"``/``"high"``) of the baseline."""
+        return dataclasses.replace(self, base_cache=None, gram_cache={}, arg_cache={},
+                                   end_terms=self.end_terms + ((end, rate_per_rad),))
 
     @classmethod
     def of(cls, trial: DiagnosisTrial, min_angle_deg: float | None = None) -> "Prepared":
@@ -150,11 +171,15 @@ def normal_lstsq(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return np.linalg.lstsq(xs, y, rcond=None)[0] / d
 
 
-def baseline_columns(kind: str, theta: np.ndarray, lo: float, hi: float, flexible: bool = False) -> np.ndarray:
-    """Baseline basis (n, p) at angles ``theta`` (rad); ``flexible`` adds the spline in angle."""
+def baseline_columns(kind: str, theta: np.ndarray, lo: float, hi: float, flexible: bool = False,
+                     end_terms: tuple[tuple[str, float], ...] = ()) -> np.ndarray:
+    """Baseline basis (n, p) at angles ``theta`` (rad); ``flexible`` adds the spline in angle;
+    ``end_terms`` adds exponentials (``"low"`` or ``"high"`` end, rate in 1/rad) to a joint's own."""
     if kind in ("knee", "ankle"):
         cols = [np.ones_like(theta), theta, theta**2, theta**3]
         low_end, high_end = END_EXP_RATES_PER_RAD[kind]
+        low_end = low_end + tuple(r for end, r in end_terms if end == "low")
+        high_end = high_end + tuple(r for end, r in end_terms if end == "high")
         cols += [np.exp(-rate * (theta - lo)) for rate in low_end]
         cols += [np.exp(rate * (theta - hi)) for rate in high_end]
     else:
@@ -199,15 +224,24 @@ class Cause:
 
 def _plain(prep: Prepared, extra: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     if prep.base_cache is None:
-        prep.base_cache = baseline_columns(prep.trial.kind, prep.theta, prep.lo, prep.hi, prep.flexible)
+        prep.base_cache = prep.baseline()
     base = prep.base_cache
     ext = np.zeros((prep.t.size, 0)) if extra is None else extra.reshape(prep.t.size, -1)
     return base, ext, np.ones(prep.t.size, dtype=bool)
 
 
-def _burst(t: np.ndarray, start: float, duration: float) -> np.ndarray:
+#: shapes u ∈ [0, 1] → [0, 1] of an activation burst (peak 1): a twitch's half-sine and a smoother
+#: Hann (raised-cosine) bump. EMG-driven torque bursts take either form; the amplitude's interval
+#: averages over them (engine.average_shapes), the search uses the first
+BURST_SHAPES: dict[str, Callable[[np.ndarray], np.ndarray]] = {
+    "half_sine": lambda u: np.sin(np.pi * u),
+    "hann": lambda u: np.sin(np.pi * u) ** 2,
+}
+
+
+def _burst(t: np.ndarray, start: float, duration: float, shape: str = "half_sine") -> np.ndarray:
     u = (t - start) / duration
-    return np.where((u >= 0) & (u <= 1), np.sin(np.pi * np.clip(u, 0, 1)), 0.0)
+    return np.where((u >= 0) & (u <= 1), BURST_SHAPES[shape](np.clip(u, 0, 1)), 0.0)
 
 
 def _cached(prep: Prepared, key: tuple[Any, ...], make: Callable[[], tuple[np.ndarray, np.ndarray, np.ndarray]]
@@ -231,7 +265,7 @@ def _delayed_columns(prep: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray,
     th, inside = prep.delayed_theta(d)
     # the delayed angle must lie in the range the trial describes (an AFO's is cut at the spring's engagement)
     valid = inside & (th >= prep.lo)
-    return baseline_columns(prep.trial.kind, th, prep.lo, prep.hi, prep.flexible), np.zeros((prep.t.size, 0)), valid
+    return prep.baseline(th), np.zeros((prep.t.size, 0)), valid
 
 
 def _compliant(prep: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -240,7 +274,7 @@ def _compliant(prep: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray, np.nd
 
 def _compliant_columns(prep: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     th = prep.theta - nl[0] * prep.torque_smooth
-    return baseline_columns(prep.trial.kind, th, prep.lo, prep.hi, prep.flexible), np.zeros((prep.t.size, 0)), np.ones(prep.t.size, bool)
+    return prep.baseline(th), np.zeros((prep.t.size, 0)), np.ones(prep.t.size, bool)
 
 
 def _stop_column(prep: Prepared, stop: float, theta: np.ndarray | None = None) -> np.ndarray:
@@ -279,7 +313,7 @@ def _burst_grid(prep: Prepared) -> np.ndarray:
     if prep.grid_residual is not None:  # inside a compound: what the other cause leaves
         resid = prep.grid_residual
     else:
-        base = baseline_columns(prep.trial.kind, prep.theta, prep.lo, prep.hi, prep.flexible)
+        base = prep.baseline()
         resid = prep.target - base @ normal_lstsq(base, prep.target)
     dt = float(np.median(np.diff(prep.t)))
     pairs = []
@@ -298,13 +332,36 @@ def burst_bounds(prep: Prepared, nl: tuple[float, ...]) -> tuple[float, float]:
     return start, dur
 
 
+def friction_cause(law: str) -> Cause:
+    """The Coulomb friction cause with the smooth law ``law`` of :data:`FRICTION_LAWS`."""
+    shape = FRICTION_LAWS[law]
+    return Cause("coulomb_friction", "constant torque opposing motion (hysteresis of constant width)",
+                 ("afo", "knee", "ankle"), lambda p, nl: _plain(p, shape(p.omega / nl[0])),
+                 lambda c, nl: {"friction_Nm": float(c[0]), "friction_width_deg_s": float(np.rad2deg(nl[0]))},
+                 "friction_Nm", lambda p: [FRICTION_WIDTHS_RAD_S], signs=(1,), hysteretic=True)
+
+
+def burst_cause(shape: str) -> Cause:
+    """The activation burst cause with the shape ``shape`` of :data:`BURST_SHAPES`."""
+    return Cause("activation_burst", "transient active torque that passive tissue cannot produce", ("knee", "ankle"),
+                 lambda p, nl: _plain(p, _burst(p.t, *burst_bounds(p, nl), shape)),
+                 lambda c, nl: {"burst_amplitude_Nm": float(c[0]), "burst_start_s": float(nl[0]),
+                                "burst_duration_s": float(nl[1])},
+                 "burst_amplitude_Nm", _burst_grid, transient=True, hysteretic=True)
+
+
+#: causes whose shape is a modelling choice the data tell apart only weakly: each variant (a name and
+#: the cause with that shape), the first being the one the search uses
+SHAPE_VARIANTS: dict[str, dict[str, Callable[[], Cause]]] = {
+    "coulomb_friction": {law: functools.partial(friction_cause, law) for law in FRICTION_LAWS},
+    "activation_burst": {shape: functools.partial(burst_cause, shape) for shape in BURST_SHAPES},
+}
+
+
 CAUSES: dict[str, Cause] = {c.name: c for c in [
     Cause("none", "the baseline explains the data to the noise", ("afo", "knee", "ankle", "replica"),
           lambda p, nl: _plain(p), lambda c, nl: {}),
-    Cause("coulomb_friction", "constant torque opposing motion (hysteresis of constant width)", ("afo", "knee", "ankle"),
-          lambda p, nl: _plain(p, np.tanh(p.omega / nl[0])),
-          lambda c, nl: {"friction_Nm": float(c[0]), "friction_width_deg_s": float(np.rad2deg(nl[0]))}, "friction_Nm",
-          lambda p: [FRICTION_WIDTHS_RAD_S], signs=(1,), hysteretic=True),
+    friction_cause("tanh"),
     Cause("viscous_damping", "torque proportional to angular velocity (hysteresis growing with speed)",
           ("afo", "knee", "ankle"), lambda p, nl: _plain(p, p.omega),
           lambda c, nl: {"damping_Nm_s_per_rad": float(c[0])}, "damping_Nm_s_per_rad", signs=(1,), hysteretic=True),
@@ -318,10 +375,7 @@ CAUSES: dict[str, Cause] = {c.name: c for c in [
           lambda p, nl: _plain(p, _stop_column(p, nl[0])),
           lambda c, nl: {"stop_angle_deg": float(np.rad2deg(nl[0])), "stop_stiffness_Nm_per_deg": float(np.deg2rad(c[0]))},
           "stop_stiffness_Nm_per_deg", _stop_grid, signs=(1,)),
-    Cause("activation_burst", "transient active torque that passive tissue cannot produce", ("knee", "ankle"),
-          lambda p, nl: _plain(p, _burst(p.t, *burst_bounds(p, nl))),
-          lambda c, nl: {"burst_amplitude_Nm": float(c[0]), "burst_start_s": float(nl[0]), "burst_duration_s": float(nl[1])},
-          "burst_amplitude_Nm", _burst_grid, transient=True, hysteretic=True),
+    burst_cause("half_sine"),
     Cause("gravity_error", "a segment mass or centre-of-mass error (torque error sinusoidal in angle)",
           ("knee", "ankle"), lambda p, nl: _plain(p, p.gravity_shape),
           lambda c, nl: {"gravity_moment_error_Nm": float(c[0])}, "gravity_moment_error_Nm"),
