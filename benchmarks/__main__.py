@@ -13,7 +13,8 @@ BENCHMARKS = {"drivers": "benchmarks.drivers", "pmp_opensim": "benchmarks.pmp_op
               "relaxation": "benchmarks.relaxation", "gui": "benchmarks.gui", "safety": "benchmarks.safety",
               "cohort": "benchmarks.cohort", "diagnosis_wide": "benchmarks.diagnosis_wide",
               "pmp_model_diagnosis": "benchmarks.pmp_model_diagnosis",
-              "afo_model_diagnosis": "benchmarks.afo_model_diagnosis"}
+              "afo_model_diagnosis": "benchmarks.afo_model_diagnosis",
+              "diagnosis_stops": "benchmarks.diagnosis_stops"}
 
 
 def main(argv: list[str] | None = None) -> int:
