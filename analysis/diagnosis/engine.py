@@ -89,13 +89,14 @@ def _solve(prep: Prepared, cause: Cause, nl: tuple[float, ...], mask: np.ndarray
     x = np.hstack([base, ext])
     use = mask & valid
     xs = x[use]
-    y = prep.target[use]
+    offset = cause.offset(prep, nl) if cause.offset is not None else None
+    y = prep.target[use] if offset is None else prep.target[use] - offset[use]
     signs = np.zeros(x.shape[1])
     signs[base.shape[1]:base.shape[1] + len(cause.signs)] = cause.signs
     # normal equations on unit-diagonal columns (an SVD solve costs ~30× more and, with a threaded BLAS on a
     # loaded host, far more); the residual is formed directly, so it keeps full precision
     coef = _signed_normal_solve(xs.T @ xs, xs.T @ y, signs)
-    pred = x @ coef
+    pred = x @ coef if offset is None else x @ coef + offset
     rss = float(np.sum((prep.target[use] - pred[use]) ** 2))
     return rss, coef, np.where(valid, pred, np.nan), base.shape[1], use
 
@@ -128,7 +129,7 @@ def _rss(prep: Prepared, cause: Cause, nl: tuple[float, ...], mask: np.ndarray) 
     prediction: for causes that keep the shared baseline the baseline's Gram matrix is computed once
     per mask and only the extension's cross products are formed (the grid searches' inner loop)."""
     base, ext, valid = cause.columns(prep, nl)
-    if base is not prep.base_cache or not valid.all():
+    if base is not prep.base_cache or not valid.all() or cause.offset is not None:
         rss, _, _, _, use = _solve(prep, cause, nl, mask)
         return rss, int(use.sum())
     key = mask.tobytes()
@@ -269,6 +270,8 @@ def absorbed_by_baseline(prep: Prepared, cause: Cause, fit: CauseFit) -> float:
         b2, _, v2 = cause.columns(prep, nl)
         valid = valid & v2
         j = (b2 - base) @ fit.coef[: base.shape[1]] / step
+        if cause.offset is not None:
+            j = j + (cause.offset(prep, nl) - cause.offset(prep, fit.nonlinear)) / step
     b0 = baseline_columns(prep.trial.kind, prep.theta, prep.lo, prep.hi)[valid]
     j = j[valid]
     if np.std(j) == 0:
@@ -301,7 +304,7 @@ def parameter_se(prep: Prepared, cause: Cause, fit: CauseFit, n_eff: float) -> d
             nl[j] += sign * h
             b_j, e_j, v_j = cause.columns(prep, tuple(nl))
             valid = valid & v_j
-            pair.append(np.hstack([b_j, e_j]) @ fit.coef)
+            pair.append(np.hstack([b_j, e_j]) @ fit.coef + (0.0 if cause.offset is None else cause.offset(prep, tuple(nl))))
         shifted.append((pair[0] - pair[1]) / (2 * h))
     x = np.hstack([base, ext])
     free = np.ones(x.shape[1], dtype=bool)

@@ -195,3 +195,20 @@ def test_velocity_is_unbiased_by_dropped_rows(seed: int, drop_fraction: float) -
     truth = np.deg2rad(30.0) * 2 * np.pi * 0.1 * np.cos(2 * np.pi * 0.1 * t[keep])
     inner = slice(20, -20)
     assert np.max(np.abs(trial.velocity_rad_s()[inner] - truth[inner])) < 0.01 * np.max(np.abs(truth))  # a gap read as one step: 100 %
+
+
+def test_a_delay_lags_the_limb_weight_too() -> None:
+    """A torque channel read late lags all of the torque, the limb's weight included (written here: a knee swept
+    at 10 °/s, its passive moment and its weight read 0.12 s late; the delay is the only effect)."""
+    rate = 100.0
+    t = np.arange(0.0, 60.0, 1.0 / rate)
+    knee_deg = 45.0 - 40.0 * np.abs(((t / 16.0) % 1.0) * 2.0 - 1.0) * 2.0 + 40.0  # 5–85°, 10 °/s
+    knee = np.deg2rad(knee_deg)
+    subject = {"mass_kg": 75.0, "shank_length_m": 0.42, "foot_length_m": 0.26}
+    probe = DiagnosisTrial("knee", t, knee, np.zeros_like(t), {"hip_flexion_deg": 90.0}, subject)
+    torque = probe.limb_gravity_nm() + 2.0 * np.exp(-3.0 * (knee - 0.1)) + 0.5 * np.exp(3.0 * (knee - 1.5)) + 3.0 * knee
+    delay = 0.12
+    late = np.interp(t - delay, t, torque) + np.random.default_rng(3).normal(0.0, 0.05, t.size)
+    d = diagnose(DiagnosisTrial("knee", t, knee, late, {"hip_flexion_deg": 90.0}, subject, "late knee"))
+    assert d.cause == "time_delay", d.text()
+    assert abs(d.parameters["delay_s"] - delay) < 0.005, d.parameters
