@@ -337,7 +337,7 @@ def _burst_grid(prep: Prepared) -> np.ndarray:
         kernel = np.sin(np.pi * np.linspace(0, 1, max(3, int(dur / dt))))
         score = np.abs(np.correlate(resid, kernel, mode="valid"))
         for i in np.argsort(score)[::-1][:200:25]:
-            pairs.append((prep.t[0] + i * dt, dur))
+            pairs.append((float(prep.t[i]), dur))  # the sample's own time: rows may be missing
     return np.array(pairs)
 
 

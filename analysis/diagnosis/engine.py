@@ -238,6 +238,16 @@ def fit_cause(prep: Prepared, cause: Cause, mask: np.ndarray | None = None, refi
             nl = tuple(nl)
             if refine:
                 for part, lo_i in ((first, 0), (second, k1)):
+                    grids = part.grid(prep)
+                    if _nl_count(part) == 1 and isinstance(grids, list) and len(grids) == 1:
+                        # a part's one nonlinear parameter off its grid too, as a single cause's is: a delay on
+                        # its 10 ms grid left a stop beside it no held-out gain (knee, seed 9500: the stop's
+                        # held-out gain −3 at the grid's 30 ms, the delay alone 25 ms)
+                        def g(v: float, lo_i: int = lo_i) -> float:
+                            rss, n = _rss(prep, cause, nl[:lo_i] + (v,) + nl[lo_i + 1:], mask)
+                            return rss / max(n, 1)
+                        nl = nl[:lo_i] + (_refine_scalar(g, grids[0], nl[lo_i]),) + nl[lo_i + 1:]
+                        continue
                     if part.name != "activation_burst":
                         continue
                     def f(v: np.ndarray, lo_i: int = lo_i) -> float:

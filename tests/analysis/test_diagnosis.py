@@ -212,3 +212,20 @@ def test_a_delay_lags_the_limb_weight_too() -> None:
     d = diagnose(DiagnosisTrial("knee", t, knee, late, {"hip_flexion_deg": 90.0}, subject, "late knee"))
     assert d.cause == "time_delay", d.text()
     assert abs(d.parameters["delay_s"] - delay) < 0.005, d.parameters
+
+
+def test_burst_candidates_start_at_their_samples_time_when_rows_are_missing() -> None:
+    """The burst's matched filter names a sample; its start is that sample's time, not the first time plus the
+    index times the step (with a fifth of the rows missing that put a burst at 30 s some 6 s early)."""
+    from analysis.diagnosis.causes import CAUSES, Prepared
+
+    rng = np.random.default_rng(5)
+    t = np.arange(0.0, 60.0, 0.01)
+    keep = rng.random(t.size) > 0.2
+    t = t[keep]
+    knee = np.deg2rad(45.0 + 40.0 * np.sin(2 * np.pi * t / 20.0))
+    bump = np.where((t > 30.0) & (t < 30.8), np.sin(np.pi * (t - 30.0) / 0.8), 0.0)
+    torque = 3.0 * knee + 2.0 * bump + rng.normal(0.0, 0.05, t.size)
+    prep = Prepared.of(DiagnosisTrial("knee", t, knee, torque, {"hip_flexion_deg": 90.0}, {}))
+    starts = np.array([row[0] for row in CAUSES["activation_burst"].grid(prep)])
+    assert np.min(np.abs(starts - 30.0)) < 0.3, np.sort(starts)[:10]
