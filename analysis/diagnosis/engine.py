@@ -239,10 +239,12 @@ def fit_cause(prep: Prepared, cause: Cause, mask: np.ndarray | None = None, refi
             if refine:
                 for part, lo_i in ((first, 0), (second, k1)):
                     grids = part.grid(prep)
-                    if _nl_count(part) == 1 and isinstance(grids, list) and len(grids) == 1:
-                        # a part's one nonlinear parameter off its grid too, as a single cause's is: a delay on
-                        # its 10 ms grid left a stop beside it no held-out gain (knee, seed 9500: the stop's
-                        # held-out gain −3 at the grid's 30 ms, the delay alone 25 ms)
+                    if part.name in ARGUMENT_CAUSES and isinstance(grids, list) and len(grids) == 1:
+                        # a delay's (or compliance's) parameter off its grid too, as a single cause's is: on its
+                        # 10 ms grid a delay left a stop beside it no held-out gain (knee, seed 9500: the stop's
+                        # held-out gain −3 at the grid's 30 ms, the delay alone 25 ms). Not a friction width: refined
+                        # beside a second cause it let that cause take up what the tanh law misses of an arctan
+                        # friction (`benchmarks diagnosis` singles 0.982 → 0.956: friction + damping, burst, stop)
                         def g(v: float, lo_i: int = lo_i) -> float:
                             rss, n = _rss(prep, cause, nl[:lo_i] + (v,) + nl[lo_i + 1:], mask)
                             return rss / max(n, 1)
