@@ -229,3 +229,30 @@ def test_burst_candidates_start_at_their_samples_time_when_rows_are_missing() ->
     prep = Prepared.of(DiagnosisTrial("knee", t, knee, torque, {"hip_flexion_deg": 90.0}, {}))
     starts = np.array([row[0] for row in CAUSES["activation_burst"].grid(prep)])
     assert np.min(np.abs(starts - 30.0)) < 0.3, np.sort(starts)[:10]
+
+
+@settings(max_examples=8, deadline=None)
+@given(st.sampled_from(["afo", "knee", "ankle"]), st.integers(0, 2**20), st.floats(0.0, 0.4), st.floats(0.0, 0.05))
+def test_a_damaged_trial_is_diagnosed_with_finite_intervals_or_refused(kind: str, seed: int, drop: float,
+                                                                       nan_fraction: float) -> None:
+    """Rows dropped (up to 40 %) and NaN cells (up to 5 %) anywhere: the diagnosis names causes with finite,
+    positive standard errors for every magnitude it reports, or refuses with an InputError."""
+    from analysis.errors import InputError
+    from benchmarks.diagnosis_truth import EFFECTS, generate
+
+    rng = np.random.default_rng(seed)
+    effect = str(rng.choice(EFFECTS[kind]))
+    g = generate(kind, (effect,), seed)
+    keep = rng.random(g.time_s.size) >= drop
+    torque = g.torque_nm[keep].copy()
+    torque[rng.random(torque.size) < nan_fraction] = np.nan
+    try:
+        d = diagnose(DiagnosisTrial(kind, g.time_s[keep], g.angle_rad[keep], torque, g.fixed_deg, g.subject))
+    except InputError:
+        return
+    from analysis.diagnosis.causes import CAUSES
+
+    for cause in ({d.cause} | {a["cause"] for a in d.also}) - {"none"}:
+        key = CAUSES[cause].magnitude_key
+        if key:
+            assert np.isfinite(d.parameters_se.get(key, np.nan)) and d.parameters_se[key] > 0, (cause, d.parameters_se)
