@@ -49,6 +49,7 @@ from scipy.optimize import minimize, minimize_scalar
 from .causes import (
     ARGUMENT_CAUSES,
     CAUSES,
+    FRICTION_LAWS,
     SEPARATE_BY,
     SHAPE_VARIANTS,
     UNTESTABLE_HINT,
@@ -60,6 +61,7 @@ from .causes import (
     baseline_columns,
     burst_bounds,
     compound,
+    friction_cause,
     normal_lstsq,
     steep_end,
 )
@@ -371,6 +373,19 @@ class VariantFit:
     se: dict[str, float]
 
 
+def likeliest_friction_law(prep: Prepared) -> Cause:
+    """The friction cause with the smooth Coulomb law (:data:`causes.FRICTION_LAWS`) that fits this trial best
+    beside the baseline (each at its best width).
+
+    The laws have the same parameters; the search then uses the likeliest. With tanh always, an arctan
+    friction's slow approach to its amplitude was left for a second cause: a fast ankle sweep with friction
+    alone (`diagnosis_wide` seed 11001) was named friction + damping (ΔBIC −25); with the arctan law,
+    friction alone (its RSS 126.1 against tanh's 130.7 N·m²).
+    """
+    fitted = [(fit_cause(prep, cause), cause) for cause in (friction_cause(law) for law in FRICTION_LAWS)]
+    return min(fitted, key=lambda fc: fc[0].rss / max(fc[0].n, 1))[1]
+
+
 def magnitude_variants(prep: Prepared, names: tuple[str, ...], cause_name: str, stop_angle_rad: float = math.nan
                        ) -> list[tuple[str, Prepared, dict[str, Cause]]]:
     """The modelling choices the data tell apart only weakly behind ``cause_name``'s magnitude: (label,
@@ -392,12 +407,13 @@ def magnitude_variants(prep: Prepared, names: tuple[str, ...], cause_name: str, 
     return []
 
 
-def average_variants(variants: list[tuple[str, Prepared, dict[str, Cause]]], names: tuple[str, ...], n_eff: float
-                     ) -> list[VariantFit]:
-    """The final model ``names`` refitted in each variant, weighted by exp(−ΔBIC/2) at ``n_eff``."""
+def average_variants(variants: list[tuple[str, Prepared, dict[str, Cause]]], names: tuple[str, ...], n_eff: float,
+                     library: dict[str, Cause] | None = None) -> list[VariantFit]:
+    """The final model ``names`` refitted in each variant, weighted by exp(−ΔBIC/2) at ``n_eff``
+    (``library``: the causes by name, default :data:`causes.CAUSES`)."""
     out = []
     for label, prep, replace in variants:
-        parts = [replace.get(n, CAUSES[n]) for n in names]
+        parts = [replace.get(n, (library or CAUSES)[n]) for n in names]
         if len(parts) == 1:
             cause, f = parts[0], fit_cause(prep, parts[0])
         else:
@@ -646,8 +662,10 @@ class _Evidence:
 class _Search:
     """The fits, held-out errors and flexible-baseline checks of one trial, each computed once."""
 
-    def __init__(self, prep: Prepared, folds: int, min_delta_bic: float, min_heldout_gain: float) -> None:
+    def __init__(self, prep: Prepared, folds: int, min_delta_bic: float, min_heldout_gain: float,
+                 library: dict[str, Cause] | None = None) -> None:
         self.prep, self.flex = prep, prep.as_flexible()
+        self.library = CAUSES if library is None else library  # the causes by name (a trial's friction law)
         self.folds, self.min_delta_bic, self.min_heldout_gain = folds, min_delta_bic, min_heldout_gain
         self.fits: dict[str, CauseFit] = {}
         self.causes: dict[str, Cause] = {}
@@ -658,10 +676,10 @@ class _Search:
         key = "+".join(names)
         if key not in self.fits:
             if len(names) == 1:
-                cause = CAUSES[names[0]]
+                cause = self.library[names[0]]
                 self.fits[key] = fit_cause(self.prep, cause)
             else:
-                cause = compound(CAUSES[names[0]], CAUSES[names[1]])
+                cause = compound(self.library[names[0]], self.library[names[1]])
                 a, b = cause.parts
                 start = self.fits[a.name].nonlinear + self.fits[b.name].nonlinear
                 self.fits[key] = fit_cause(self.prep, cause, start=start)
@@ -690,7 +708,7 @@ class _Search:
 
     def evidence(self, model: tuple[str, ...], ref: tuple[str, ...]) -> _Evidence:
         """Evidence for ``model`` (the reference plus one cause) against ``ref``."""
-        added = CAUSES[next(n for n in model if n not in ref)]
+        added = self.library[next(n for n in model if n not in ref)]
         _, mf = self.fit(model)
         _, rf = self.fit(ref)
         n_eff = effective_n(self.prep.torque - mf.prediction)
@@ -787,13 +805,16 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
         notes.append("the joint moves one way only: friction, damping and a delay are offsets here and cannot be "
                      "seen; record a return movement")
         names = [n for n in names if n not in ("coulomb_friction", "viscous_damping", "time_delay")]
-    search = _Search(prep, folds, min_delta_bic, min_heldout_gain)
+    library = dict(CAUSES)
+    if "coulomb_friction" in names:
+        library["coulomb_friction"] = likeliest_friction_law(prep)
+    search = _Search(prep, folds, min_delta_bic, min_heldout_gain, library)
     for n in names:
         search.fit((n,))
     fits = {n: search.fits[n] for n in names}
     base = fits["none"]
     base_ho = search.heldout(("none",))
-    absorbed = {n: absorbed_by_baseline(prep, CAUSES[n], f) for n, f in fits.items() if n != "none"}
+    absorbed = {n: absorbed_by_baseline(prep, library[n], f) for n, f in fits.items() if n != "none"}
     for n, r2 in absorbed.items():
         if r2 > max_absorbed_r2:
             notes.append(f"{n} cannot be told from the baseline in this trial (its effect is {100 * r2:.2f} % the "
@@ -904,7 +925,7 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
         if not variants:
             continue
         # the magnitude: the variants' weighted mean; its variance: within plus between the variants
-        fitted = average_variants(variants, chosen, n_eff)
+        fitted = average_variants(variants, chosen, n_eff, library)
         key = CAUSES[name].magnitude_key
         mean = sum(o.weight * o.params[key] for o in fitted)
         var = sum(o.weight * (o.se.get(key, math.nan) ** 2 + (o.params[key] - mean) ** 2) for o in fitted)

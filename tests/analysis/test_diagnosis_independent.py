@@ -190,3 +190,20 @@ def test_shape_averaged_intervals_hold_friction_and_stop_magnitudes() -> None:
         hits += list(interval_hits(d, g).values())
         assert any("averaged over" in n for n in d.notes) or not interval_hits(d, g), d.notes
     assert len(hits) >= 9 and sum(hits) >= len(hits) - 2, hits
+
+
+def test_the_friction_law_is_the_likeliest_and_leaves_no_damping_behind() -> None:
+    """Fast ankle sweeps with arctan-law friction alone (the generator's law): with the tanh law always, the
+    law's slow approach to its amplitude was named damping as well (seed 11001, ΔBIC −25); the search now
+    uses the law that fits best beside the baseline."""
+    from analysis.diagnosis.causes import FRICTION_LAWS, Prepared
+    from analysis.diagnosis.engine import likeliest_friction_law
+
+    g = generate("ankle", ("coulomb_friction",), 11001, nuisances=True, fast=True)
+    d = diagnose(as_trial(g))
+    assert named_causes(d) == {"coulomb_friction"}, d.text()
+    prep = Prepared.of(as_trial(g))
+    width = 1.0  # rad/s: every law at one width, to read which one the search took
+    column = likeliest_friction_law(prep).columns(prep, (width,))[1][:, 0]
+    taken = [law for law, shape in FRICTION_LAWS.items() if np.allclose(column, shape(prep.omega / width))]
+    assert taken == ["arctan"], taken
