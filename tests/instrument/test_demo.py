@@ -47,7 +47,7 @@ def test_demo_streams_every_device(demo_run: tuple[Path, str]) -> None:
 
 @pytest.mark.timeout(900)
 def test_demo_records_a_lab_day_into_a_store(demo_run: tuple[Path, str]) -> None:
-    tmp_path, _ = demo_run
+    tmp_path, printed = demo_run
     report = json.loads((tmp_path / "demo.json").read_text())
     protocols = [r["protocol"] for r in report["lab_day"]]
     assert sorted(protocols) == sorted(["aads"] * 3 + ["knee"] * 3 + ["ankle"] * 3 + ["replica"])
@@ -75,6 +75,9 @@ def test_demo_records_a_lab_day_into_a_store(demo_run: tuple[Path, str]) -> None
     assert explained[1]["error_raw_pct"] > 0 > explained[3]["error_raw_pct"]
     assert {d["protocol"] for d in report["diagnosis"]} == {"aads", "knee", "ankle", "replica"}
     assert all("cause" in d and "candidates" in d for d in report["diagnosis"])
+    for d in report["diagnosis"]:  # a second effect is printed on the trial's line, not only in the JSON
+        for a in d["also"]:
+            assert f"→ {d['cause']}" in printed and f" + {a['cause']} " in printed
     pmp = report["pmp"]
     assert "parameters" in pmp and pmp["identifiability"]["undetermined"]  # Riener's moments: the report says what is free
     assert len(pmp["forward_dynamics"]) == 3
