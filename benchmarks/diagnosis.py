@@ -58,30 +58,27 @@ def is_right(d: Any, g: IndependentTrial) -> bool:
     return named_causes(d) == expected
 
 
-def magnitude_errors(d: Any, g: IndependentTrial) -> dict[str, float]:
-    out = {}
+def _named_magnitudes(d: Any, g: IndependentTrial) -> list[tuple[str, str, float, float]]:
+    """(cause, magnitude key, fitted magnitude, true magnitude) for every hidden cause the diagnosis named."""
     params = dict(d.parameters)
     for a in d.also:
         params.update(a["parameters"])
-    for cause, truth in g.effects.items():
-        key = MAGNITUDE_KEY[cause]
-        if cause in named_causes(d) and key in params and truth:
-            out[cause] = abs(abs(params[key]) / truth - 1.0)
-    return out
+    return [(cause, MAGNITUDE_KEY[cause], abs(params[MAGNITUDE_KEY[cause]]), truth) for cause, truth in g.effects.items()
+            if cause in named_causes(d) and MAGNITUDE_KEY[cause] in params and truth]
+
+
+def magnitude_errors(d: Any, g: IndependentTrial) -> dict[str, float]:
+    """|fitted / true − 1| per named hidden cause."""
+    return {cause: abs(fitted / truth - 1.0) for cause, _, fitted, truth in _named_magnitudes(d, g)}
 
 
 def interval_hits(d: Any, g: IndependentTrial, z: float = 1.96) -> dict[str, bool]:
     """Per named hidden cause: whether the reported 95 % interval (± ``z`` standard errors) of its
     magnitude holds the truth. A cause reported without a finite standard error counts as a miss."""
     out = {}
-    params = dict(d.parameters)
-    for a in d.also:
-        params.update(a["parameters"])
-    for cause, truth in g.effects.items():
-        key = MAGNITUDE_KEY[cause]
-        if cause in named_causes(d) and key in params and truth:
-            se = float(d.parameters_se.get(key, float("nan")))
-            out[cause] = bool(np.isfinite(se) and abs(abs(params[key]) - truth) <= z * se)
+    for cause, key, fitted, truth in _named_magnitudes(d, g):
+        se = float(d.parameters_se.get(key, float("nan")))
+        out[cause] = bool(np.isfinite(se) and abs(fitted - truth) <= z * se)
     return out
 
 

@@ -251,9 +251,9 @@ def diagnose_recordings(out: Path) -> list[dict[str, Any]]:
         d = diagnose(from_table(loaded[protocol].table()))
         plot = write_diagnosis_plot(d, out / "diagnosis" / f"trial{t.id}-{protocol}.png")
         amb = f" (or {', '.join(d.ambiguous_with)})" if d.ambiguous_with else ""
-        params = ", ".join(f"{k} {v:.3g}" for k, v in d.parameters.items())
-        params += "".join(f" + {a['cause']} " + ", ".join(f"{k} {v:.3g}" for k, v in a["parameters"].items())
-                          for a in d.also)  # a second effect found with the first
+        def listed(p: dict[str, float]) -> str:
+            return ", ".join(f"{k} {v:.3g}" for k, v in p.items())
+        params = listed(d.parameters) + "".join(f" + {a['cause']} {listed(a['parameters'])}" for a in d.also)
         print(f"  trial {t.id} {protocol:<8} → {d.cause}{amb} {params}; RMSE {d.baseline_rmse_nm:.3f} → "
               f"{d.extended_rmse_nm:.3f} N·m, held-out ratio {d.heldout_rmse_ratio:.2f}  [{plot.name}]")
         for n in d.notes[:2]:

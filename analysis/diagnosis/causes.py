@@ -37,8 +37,8 @@ FRICTION_SPEED_RAD_S = np.deg2rad(1.0)  # tanh width of a Coulomb term where one
 FRICTION_WIDTHS_RAD_S = np.deg2rad(np.array([0.25, 0.5, 1.0, 2.0, 4.0]))
 #: smooth Coulomb laws s(v) of the same slope at zero (v = velocity / width): friction = amplitude · s(v).
 #: They approach the amplitude differently (exponentially, algebraically, like 1/v), and a trial of
-#: slow sweeps tells them apart only weakly, so the amplitude's interval averages over them (see
-#: engine.average_shapes); the search itself uses the first
+#: slow sweeps tells them apart only weakly: the search uses the trial's likeliest
+#: (engine.likeliest_friction_law) and the amplitude's interval averages over all (engine.magnitude_variants)
 FRICTION_LAWS: dict[str, Callable[[np.ndarray], np.ndarray]] = {
     "tanh": np.tanh,
     "algebraic": lambda v: v / np.sqrt(1.0 + v * v),
@@ -122,9 +122,9 @@ class Prepared:
         """How much the known torque (the limb's weight and moving inertia, N·m) read ``delay_s`` late differs
         from it read on time, at each kept sample: a lagging torque channel lags all of the torque.
 
-        The knee's limb weight changes by up to 0.8 N·m over a delay of 0.3 s at 15 °/s; with only the
-        passive baseline delayed, knee delays read 4 % long (median, 2 standard errors) on the independent
-        generator (seeds 140000–141001), whose channel delays the whole torque."""
+        A knee's limb weight (≈ 11 N·m at its largest for 75 kg) changes by up to 0.8 N·m over a delay of
+        0.3 s at 15 °/s; with only the passive baseline delayed, knee delays read 3.8 % long (median) on the
+        independent generator (seeds 140000–141001), whose channel delays the whole torque."""
         if self.known_whole is None or self.known is None or self.t_whole is None:
             return np.zeros(self.t.size)
         return np.interp(self.t - delay_s, self.t_whole, self.known_whole) - self.known
@@ -247,8 +247,8 @@ def _plain(prep: Prepared, extra: np.ndarray | None = None) -> tuple[np.ndarray,
 
 
 #: shapes u ∈ [0, 1] → [0, 1] of an activation burst (peak 1): a twitch's half-sine and a smoother
-#: Hann (raised-cosine) bump. EMG-driven torque bursts take either form; the amplitude's interval
-#: averages over them (engine.average_shapes), the search uses the first
+#: Hann (raised-cosine) bump. EMG-driven torque bursts take either form; the search uses the first,
+#: the amplitude's interval averages over both (engine.magnitude_variants)
 BURST_SHAPES: dict[str, Callable[[np.ndarray], np.ndarray]] = {
     "half_sine": lambda u: np.sin(np.pi * u),
     "hann": lambda u: np.sin(np.pi * u) ** 2,
@@ -367,7 +367,7 @@ def burst_cause(shape: str) -> Cause:
 
 
 #: causes whose shape is a modelling choice the data tell apart only weakly: each variant (a name and
-#: the cause with that shape), the first being the one the search uses
+#: the cause with that shape), over which a named cause's magnitude is averaged
 SHAPE_VARIANTS: dict[str, dict[str, Callable[[], Cause]]] = {
     "coulomb_friction": {law: functools.partial(friction_cause, law) for law in FRICTION_LAWS},
     "activation_burst": {shape: functools.partial(burst_cause, shape) for shape in BURST_SHAPES},

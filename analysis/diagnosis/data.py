@@ -19,6 +19,7 @@ from scipy.signal import savgol_filter
 
 from ..constants import GRAVITY_M_S2
 from ..errors import InputError
+from ..timebase import uniform_grid
 from ..trial_csv import KINDS, TrialTable
 
 G_M_S2 = GRAVITY_M_S2
@@ -79,10 +80,10 @@ class DiagnosisTrial:
         damping by 3.5–5 % (4–12 standard errors; `benchmarks/diagnosis_truth` seeds 150001–150011).
         """
         t = self.time_s
-        dt = float(np.median(np.diff(t)))
         steps = np.diff(t)
+        dt = float(np.median(steps))
         uneven = bool(np.any(np.abs(steps - dt) > 0.01 * dt))
-        grid = np.arange(t[0], t[-1] + 0.5 * dt, dt) if uneven else t
+        grid = uniform_grid(float(t[0]), float(t[-1]), 1.0 / dt) if uneven else t
         xg = np.interp(grid, t, x) if uneven else np.asarray(x, dtype=float)
         n = max(order + 2 | 1, int(round(window_s / dt)) | 1)
         n = min(n, xg.size if xg.size % 2 else xg.size - 1)

@@ -373,20 +373,20 @@ class VariantFit:
     se: dict[str, float]
 
 
-def likeliest_friction_law(prep: Prepared) -> Cause:
+def likeliest_friction_law(prep: Prepared) -> tuple[Cause, CauseFit]:
     """The friction cause with the smooth Coulomb law (:data:`causes.FRICTION_LAWS`) that fits this trial best
-    beside the baseline (each at its best width).
+    beside the baseline (each at its best width), and that fit.
 
     The laws have the same parameters; the search then uses the likeliest. With tanh always, an arctan
     friction's slow approach to its amplitude was left for a second cause: a fast ankle sweep with friction
     alone (`diagnosis_wide` seed 11001) was named friction + damping (ΔBIC −25); with the arctan law,
     friction alone (its RSS 126.1 against tanh's 130.7 N·m²).
     """
-    fitted = [(fit_cause(prep, cause), cause) for cause in (friction_cause(law) for law in FRICTION_LAWS)]
-    return min(fitted, key=lambda fc: fc[0].rss / max(fc[0].n, 1))[1]
+    fitted = [(cause, fit_cause(prep, cause)) for cause in (friction_cause(law) for law in FRICTION_LAWS)]
+    return min(fitted, key=lambda cf: cf[1].rss / max(cf[1].n, 1))
 
 
-def magnitude_variants(prep: Prepared, names: tuple[str, ...], cause_name: str, stop_angle_rad: float = math.nan
+def magnitude_variants(prep: Prepared, cause_name: str, stop_angle_rad: float = math.nan
                        ) -> list[tuple[str, Prepared, dict[str, Cause]]]:
     """The modelling choices the data tell apart only weakly behind ``cause_name``'s magnitude: (label,
     signals with their baseline, the causes replaced). Empty when there are none.
@@ -806,9 +806,10 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
                      "seen; record a return movement")
         names = [n for n in names if n not in ("coulomb_friction", "viscous_damping", "time_delay")]
     library = dict(CAUSES)
-    if "coulomb_friction" in names:
-        library["coulomb_friction"] = likeliest_friction_law(prep)
     search = _Search(prep, folds, min_delta_bic, min_heldout_gain, library)
+    if "coulomb_friction" in names:  # the search's friction is the trial's likeliest law, its fit already made
+        library["coulomb_friction"], search.fits["coulomb_friction"] = likeliest_friction_law(prep)
+        search.causes["coulomb_friction"] = library["coulomb_friction"]
     for n in names:
         search.fit((n,))
     fits = {n: search.fits[n] for n in names}
@@ -921,7 +922,7 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
                      "rmse_Nm": math.sqrt(final.rss / final.n)})
     se = parameter_se(prep, final_cause, final, n_eff) if chosen else {}
     for name in chosen:
-        variants = magnitude_variants(prep, chosen, name, math.radians(final.params.get("stop_angle_deg", math.nan)))
+        variants = magnitude_variants(prep, name, math.radians(final.params.get("stop_angle_deg", math.nan)))
         if not variants:
             continue
         # the magnitude: the variants' weighted mean; its variance: within plus between the variants

@@ -204,6 +204,6 @@ def test_the_friction_law_is_the_likeliest_and_leaves_no_damping_behind() -> Non
     assert named_causes(d) == {"coulomb_friction"}, d.text()
     prep = Prepared.of(as_trial(g))
     width = 1.0  # rad/s: every law at one width, to read which one the search took
-    column = likeliest_friction_law(prep).columns(prep, (width,))[1][:, 0]
+    column = likeliest_friction_law(prep)[0].columns(prep, (width,))[1][:, 0]
     taken = [law for law, shape in FRICTION_LAWS.items() if np.allclose(column, shape(prep.omega / width))]
     assert taken == ["arctan"], taken
