@@ -26,8 +26,15 @@ from .errors import DataFileError
 
 REQUIRED = ("time_s", "angle_deg", "torque_Nm")
 KINDS = ("afo", "knee", "ankle", "replica")
+#: the angle range each kind's protocol covers (deg): AFO bends to the 21° stop, knee flexion 0–90°,
+#: ankle 15° dorsiflexion to 30° plantarflexion, the replica leg's holds 0–90°
+NOMINAL_RANGE_DEG: dict[str, tuple[float, float]] = {"afo": (0.0, 21.0), "knee": (0.0, 90.0), "ankle": (-30.0, 15.0),
+                                                     "replica": (0.0, 90.0)}
 #: the most rows a trial CSV may have (33 min at 1 kHz); larger files are refused before loading
 MAX_ROWS = 2_000_000
+#: the largest fraction of rows without a finite time a trial may have: such rows (a corrupt line in a
+#: long recording) are left out and counted; past this the time base itself is not trusted
+MAX_ROWS_WITHOUT_TIME_FRACTION = 0.05
 #: allowed range of each sidecar number: fixed joint angles (deg) and subject anthropometrics (SI)
 SIDECAR_RANGES: dict[str, tuple[float, float]] = {
     "hip_flexion_deg": (-30.0, 130.0), "knee_flexion_deg": (-10.0, 150.0), "ankle_dorsiflexion_deg": (-60.0, 45.0),
@@ -45,6 +52,8 @@ class TrialTable:
 
     columns: dict[str, np.ndarray]
     sidecar: dict[str, Any] = field(default_factory=dict)
+    #: rows of the file left out because their time was missing or not finite (counted, not silent)
+    rows_without_time: int = 0
 
     @property
     def time_s(self) -> np.ndarray:
@@ -75,12 +84,13 @@ def write_trial_csv(path: str | Path, table: TrialTable) -> None:
 def read_trial_csv(path: str | Path) -> TrialTable:
     """Read a trial CSV and its sidecar (if present).
 
-    Cells of the data columns may be empty or NaN (a dropped sample); time may not: it must be
-    finite and strictly increasing.
+    Cells of the data columns may be empty or NaN (a dropped sample). A row whose time is empty or
+    not finite is left out and counted in ``rows_without_time`` (one corrupt line in a long
+    recording must not lose the rest); the times that remain must strictly increase.
 
     :raises DataFileError: missing or oversized file, not UTF-8, missing required column,
-        non-numeric or empty data, time not finite or not increasing, bad sidecar (names the
-        field and its allowed range).
+        non-numeric or empty data, more than :data:`MAX_ROWS_WITHOUT_TIME_FRACTION` of the rows
+        without a time, time not increasing, bad sidecar (names the field and its allowed range).
     """
     path = Path(path)
     if not path.exists():
@@ -108,14 +118,20 @@ def read_trial_csv(path: str | Path) -> TrialTable:
     if data.shape[1] != len(names):
         raise DataFileError(path, f"{data.shape[1]} columns of data but {len(names)} names in the header")
     time = data[:, names.index("time_s")]
-    bad = np.flatnonzero(~np.isfinite(time))
-    if bad.size:
-        raise DataFileError(path, f"time_s is not finite in row {bad[0] + 2} ({time[bad[0]]}); every row needs a time")
+    timed = np.isfinite(time)
+    missing_time = int(data.shape[0] - timed.sum())
+    if missing_time > MAX_ROWS_WITHOUT_TIME_FRACTION * data.shape[0]:
+        first = int(np.flatnonzero(~timed)[0])
+        raise DataFileError(path, f"{missing_time} of {data.shape[0]} rows have no finite time_s (first: row "
+                                  f"{first + 2}); at most {MAX_ROWS_WITHOUT_TIME_FRACTION:.0%} may be left out")
+    rows = np.flatnonzero(timed) + 2  # file line numbers of the kept rows (the header is line 1)
+    if missing_time:
+        data, time = data[timed], time[timed]
     steps = np.diff(time)
     if (steps <= 0).any():
         k = int(np.flatnonzero(steps <= 0)[0])
-        raise DataFileError(path, f"time_s must increase: row {k + 3} ({time[k + 1]:g} s) does not follow row "
-                                  f"{k + 2} ({time[k]:g} s) (duplicated or out-of-order time)")
+        raise DataFileError(path, f"time_s must increase: row {rows[k + 1]} ({time[k + 1]:g} s) does not follow row "
+                                  f"{rows[k]} ({time[k]:g} s) (duplicated or out-of-order time)")
     sidecar: dict[str, Any] = {}
     sp = sidecar_path(path)
     if sp.exists():
@@ -124,7 +140,7 @@ def read_trial_csv(path: str | Path) -> TrialTable:
         except (json.JSONDecodeError, UnicodeDecodeError) as err:
             raise DataFileError(sp, f"sidecar is not valid JSON: {err}") from err
         validate_sidecar(sidecar, sp)
-    return TrialTable({n: data[:, i] for i, n in enumerate(names)}, sidecar)
+    return TrialTable({n: data[:, i] for i, n in enumerate(names)}, sidecar, missing_time)
 
 
 def validate_sidecar(sidecar: Any, path: str | Path) -> None:

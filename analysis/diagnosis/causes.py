@@ -89,6 +89,14 @@ SPLINE_KNOTS = 8                          # interior knots of the flexible basel
 #: an activation burst's physiological duration (s): a stretch reflex or a voluntary twitch lasts
 #: 0.15–2 s; longer "bursts" would absorb drift or a baseline mismatch
 BURST_DURATION_S = (0.15, 2.0)
+#: the longest channel delay searched (s), and the grid's step up to DELAY_FINE_S and beyond it. The
+#: range is physical, not any generator's: a torque channel lagging its angle by more than a second is a
+#: misaligned file, not a delay; a trial shorter than ten times the delay cannot show it (the search
+#: stops at a tenth of the trial). The grid was 0–0.3 s, where one generator's delays ended; a 0.435 s
+#: delay then read 0.30 s with no interval holding it
+DELAY_MAX_S = 1.0
+DELAY_FINE_S = 0.3
+DELAY_STEPS_S = (0.01, 0.025)
 
 
 @dataclass
@@ -341,6 +349,15 @@ def _burst_grid(prep: Prepared) -> np.ndarray:
     return np.array(pairs)
 
 
+def delay_grid(prep: Prepared) -> np.ndarray:
+    """Delays searched (s): 10 ms steps to :data:`DELAY_FINE_S`, 25 ms steps to :data:`DELAY_MAX_S` or a
+    tenth of the trial, whichever is shorter (the refinement then searches between grid points)."""
+    top = min(DELAY_MAX_S, 0.1 * float(prep.t[-1] - prep.t[0]))
+    fine = np.arange(0.0, min(DELAY_FINE_S, top) + 1e-9, DELAY_STEPS_S[0])
+    coarse = np.arange(DELAY_FINE_S + DELAY_STEPS_S[1], top + 1e-9, DELAY_STEPS_S[1])
+    return np.concatenate([fine, coarse])
+
+
 def burst_bounds(prep: Prepared, nl: tuple[float, ...]) -> tuple[float, float]:
     """``nl`` = (start, duration) held to the physiological duration and inside the trial."""
     dur = float(np.clip(nl[1], *BURST_DURATION_S))
@@ -396,7 +413,7 @@ CAUSES: dict[str, Cause] = {c.name: c for c in [
           ("knee", "ankle"), lambda p, nl: _plain(p, p.gravity_shape),
           lambda c, nl: {"gravity_moment_error_Nm": float(c[0])}, "gravity_moment_error_Nm"),
     Cause("time_delay", "the torque channel lagging the angle channel", ("afo", "knee", "ankle"), _delayed,
-          lambda c, nl: {"delay_s": float(nl[0])}, "delay_s", lambda p: [np.linspace(0.0, 0.3, 31)], hysteretic=True,
+          lambda c, nl: {"delay_s": float(nl[0])}, "delay_s", lambda p: [delay_grid(p)], hysteretic=True,
           offset=lambda p, nl: p.delayed_known(nl[0])),
     Cause("inertia", "torque proportional to angular acceleration beyond the known limb and arm inertia "
           "(a moving mass not accounted for)",

@@ -20,7 +20,7 @@ from scipy.signal import savgol_filter
 from ..constants import GRAVITY_M_S2
 from ..errors import InputError
 from ..timebase import uniform_grid
-from ..trial_csv import KINDS, TrialTable
+from ..trial_csv import KINDS, MAX_ROWS_WITHOUT_TIME_FRACTION, TrialTable
 
 G_M_S2 = GRAVITY_M_S2
 
@@ -39,18 +39,44 @@ class DiagnosisTrial:
     #: inertia of what turns with the joint besides the limb (the dynamometer's arm), kg·m²; None when
     #: the torque is not a dynamometer's raw torque (no moving inertia is known to be in it)
     rig_inertia_kgm2: float | None = None
+    #: rows left out and why ("no time", "angle not finite", "torque not finite"); rows a reader already
+    #: left out (a CSV's rows without a time) may be given here and are added to
+    rows_left_out: dict[str, int] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
             raise InputError(f"{self.source or 'trial'}: kind must be one of {KINDS}, got {self.kind!r}")
         t, a, q = (np.asarray(x, dtype=float) for x in (self.time_s, self.angle_rad, self.torque_nm))
-        ok = np.isfinite(t) & np.isfinite(a) & np.isfinite(q)
+        if not t.shape == a.shape == q.shape or t.ndim != 1:
+            raise InputError(f"{self.source or 'trial'}: time, angle and torque must be 1-D columns of one length, "
+                             f"got {t.shape}, {a.shape}, {q.shape}")
+        timed = np.isfinite(t)
+        given_without_time = int(self.rows_left_out.get("no time", 0))
+        without_time = int(t.size - timed.sum()) + given_without_time
+        if without_time > MAX_ROWS_WITHOUT_TIME_FRACTION * (t.size + given_without_time):
+            raise InputError(f"{self.source or 'trial'}: {without_time} of {t.size + given_without_time} rows have no "
+                             f"finite time; at most {MAX_ROWS_WITHOUT_TIME_FRACTION:.0%} may be left out")
+        counts = dict(self.rows_left_out)
+        counts["no time"] = without_time
+        counts["angle not finite"] = counts.get("angle not finite", 0) + int((timed & ~np.isfinite(a)).sum())
+        counts["torque not finite"] = counts.get("torque not finite", 0) + int(
+            (timed & np.isfinite(a) & ~np.isfinite(q)).sum())
+        self.rows_left_out = {k: v for k, v in counts.items() if v}
+        ok = timed & np.isfinite(a) & np.isfinite(q)
         if ok.sum() < 50:
             raise InputError(f"{self.source or 'trial'}: {int(ok.sum())} finite samples; the diagnosis needs 50")
         order = np.argsort(t[ok], kind="stable")
         self.time_s, self.angle_rad, self.torque_nm = t[ok][order], a[ok][order], q[ok][order]
         if np.any(np.diff(self.time_s) <= 0):
             raise InputError(f"{self.source or 'trial'}: repeated time stamps")
+
+    def left_out_text(self) -> str:
+        """One line saying which rows were left out and why ('' when none were)."""
+        if not self.rows_left_out:
+            return ""
+        total = sum(self.rows_left_out.values())
+        parts = ", ".join(f"{n} {why}" for why, n in self.rows_left_out.items())
+        return f"{total} row(s) left out ({parts}); the rest diagnosed"
 
     @property
     def rate_hz(self) -> float:
@@ -65,8 +91,11 @@ class DiagnosisTrial:
         n = self.time_s.size // q * q
         def mean(x: np.ndarray) -> np.ndarray:
             return x[:n].reshape(-1, q).mean(axis=1)
-        return DiagnosisTrial(self.kind, mean(self.time_s), mean(self.angle_rad), mean(self.torque_nm),
-                              dict(self.fixed_deg), dict(self.subject), self.source, self.rig_inertia_kgm2)
+        # the rows left out were counted on this trial; the block means are all finite
+        out = DiagnosisTrial(self.kind, mean(self.time_s), mean(self.angle_rad), mean(self.torque_nm),
+                             dict(self.fixed_deg), dict(self.subject), self.source, self.rig_inertia_kgm2)
+        out.rows_left_out = dict(self.rows_left_out)
+        return out
 
     def savgol(self, x: np.ndarray, window_s: float = 0.15, order: int = 3, deriv: int = 0) -> np.ndarray:
         """Savitzky–Golay filter of ``x`` (sampled at ``time_s``) over ``window_s`` (s): the value, or its
@@ -138,4 +167,5 @@ def from_table(table: TrialTable, kind: str | None = None) -> DiagnosisTrial:
              if side.get(n) is not None}
     return DiagnosisTrial(k, table.time_s, np.deg2rad(table.angle_deg), table.torque_nm, fixed,
                           dict(side.get("subject") or {}), str(side.get("source", "")),
-                          None if side.get("arm_inertia_kgm2") is None else float(side["arm_inertia_kgm2"]))
+                          None if side.get("arm_inertia_kgm2") is None else float(side["arm_inertia_kgm2"]),
+                          {"no time": table.rows_without_time} if table.rows_without_time else {})

@@ -46,6 +46,8 @@ from typing import Any
 import numpy as np
 from scipy.optimize import minimize, minimize_scalar
 
+from ..errors import InputError
+from ..trial_csv import NOMINAL_RANGE_DEG
 from .causes import (
     ARGUMENT_CAUSES,
     CAUSES,
@@ -536,6 +538,7 @@ class Diagnosis:
     also: list[dict[str, Any]] = field(default_factory=list)  # a second effect found with the first
     parameters_se: dict[str, float] = field(default_factory=dict)
     systematic: list[dict[str, Any]] = field(default_factory=list)  # where the baseline's residual is not noise
+    rows_left_out: dict[str, int] = field(default_factory=dict)  # rows not diagnosed, by reason (see notes)
 
     def as_dict(self) -> dict[str, Any]:
         def clean(v: float) -> float | None:
@@ -548,6 +551,7 @@ class Diagnosis:
                 "heldout_rmse_ratio": clean(self.heldout_rmse_ratio), "delta_bic": clean(self.delta_bic),
                 "effective_n": self.effective_n, "ambiguous_with": self.ambiguous_with,
                 "separate_by": self.separate_by, "notes": self.notes, "also": self.also,
+                "rows_left_out": self.rows_left_out,
                 "candidates": [c.as_dict() for c in self.candidates]}
 
     def text(self) -> str:
@@ -631,6 +635,16 @@ AFO_STOP_MAX_DELTA_BIC = 3.0
 #: 1 of 3 on 600 AFO trials, while the 240 true stops named (3–5× the noise) had fitted ratios ≥ 2.16
 MIN_STOP_PEAK_TO_NOISE = 2.0
 MAX_RATE_HZ = 200.0  # the diagnosis works on block means at this rate at most (passive effects are < 10 Hz)
+#: ... and on at most this many samples: a long recording is averaged over longer blocks (never below
+#: MIN_RATE_HZ, where the shortest burst, 0.15 s, still spans 7 samples). A 5-min trial at 1 kHz (300,000
+#: rows) is then diagnosed on 15,000 block means at 50 Hz: 8.3 s and 614 MB → see `benchmarks/diagnosis_input`.
+#: The answer depends on it through the noise only: a block mean of q samples has 1/√q the white noise
+#: and there are q times fewer, so the criterion's evidence (n_eff · ln MSE ratio) is unchanged to first order
+MAX_SAMPLES = 15_000
+MIN_RATE_HZ = 50.0
+#: a trial whose angle covers less than this fraction of its protocol's range (between its 1st and 99th
+#: percentiles) is refused: the baseline is a curve in angle, and a still or barely moving angle has none
+MIN_RANGE_FRACTION = 0.2
 
 
 def _stop_offset(cause: Cause) -> int:
@@ -788,14 +802,31 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
     at angles ≥ ``min_angle_deg`` (the spring is slack below its engagement). Trials sampled faster
     than ``max_rate_hz`` (Hz) are averaged down to it first.
 
-    :raises InputError: the trial has no usable samples.
+    Rows with a missing time or a non-finite angle or torque are left out and counted (a note says so);
+    trials longer than :data:`MAX_SAMPLES` at ``max_rate_hz`` are averaged down further (not below
+    :data:`MIN_RATE_HZ`).
+
+    :raises InputError: the trial has no usable samples, or its angle barely moves (less than
+        :data:`MIN_RANGE_FRACTION` of its protocol's range).
     """
-    trial = trial.decimated(max_rate_hz)
+    lo_deg, hi_deg = NOMINAL_RANGE_DEG[trial.kind]
+    covered = math.degrees(float(np.subtract(*np.percentile(trial.angle_rad, [99.0, 1.0]))))
+    if covered < MIN_RANGE_FRACTION * (hi_deg - lo_deg):
+        raise InputError(f"{trial.source or 'trial'}: the angle covers {covered:.2f}° of the {trial.kind} protocol's "
+                         f"{hi_deg - lo_deg:g}° (at least {MIN_RANGE_FRACTION * (hi_deg - lo_deg):.1f}° needed): "
+                         "nothing to diagnose in a joint that does not move")
+    rate_in = trial.rate_hz
+    duration = float(trial.time_s[-1] - trial.time_s[0])
+    trial = trial.decimated(min(max_rate_hz, max(MIN_RATE_HZ, MAX_SAMPLES / max(duration, 1e-9))))
     prep = Prepared.of(trial, min_angle_deg if trial.kind == "afo" else None)
     names = [c for c in (causes or list(CAUSES)) if trial.kind in CAUSES[c].kinds]
     if "none" not in names:
         names.insert(0, "none")
-    notes: list[str] = []
+    notes: list[str] = [trial.left_out_text()] if trial.rows_left_out else []
+    if trial.rate_hz < 0.9 * min(rate_in, max_rate_hz):
+        notes.append(f"diagnosed on block means at {trial.rate_hz:.0f} Hz ({trial.time_s.size} samples) of the "
+                     f"{rate_in:.0f} Hz recording: a long trial is averaged down; effects faster than "
+                     f"{trial.rate_hz / 5:.0f} Hz are not seen")
     moving = np.abs(prep.omega) > np.deg2rad(0.5)
     both_ways = (prep.omega[moving] > 0).mean() if moving.any() else 0.0
     if moving.sum() < 0.05 * prep.t.size:
@@ -943,7 +974,7 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
     return Diagnosis(trial.kind, winner, params, math.sqrt(base.rss / base.n), math.sqrt(final.rss / final.n), base_ho,
                      ho_final, ho_final / base_ho if chosen and math.isfinite(ho_final) and base_ho > 0 else
                      (1.0 if not chosen else float("nan")), delta, n_eff, cands, ambiguous, separate, notes, fits, prep,
-                     also, se, systematic)
+                     also, se, systematic, dict(trial.rows_left_out))
 
 
 def magnitude(d: Diagnosis) -> float:

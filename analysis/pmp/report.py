@@ -69,6 +69,8 @@ def trial_from_table(table: TrialTable) -> PmpTrial:
     dropped = int((~ok).sum())
     if dropped:
         name += f" ({dropped} rows without angle or torque left out)"
+    if table.rows_without_time:
+        name += f" ({table.rows_without_time} rows without a time left out)"
     return PmpTrial(kind, fixed, t, q, v, table.torque_nm[ok], name)
 
 

@@ -65,7 +65,8 @@ def test_any_bytes_as_a_csv_are_read_or_refused_with_a_data_file_error(tmp_path:
 
 @pytest.mark.parametrize("mutate, words", [
     (lambda p: p.write_bytes(p.read_bytes()[:40] + b"\xff\xfe\x00bad" + p.read_bytes()[40:]), "not UTF-8"),
-    (lambda p: p.write_text(p.read_text().replace("\n0.5,", "\nnan,", 1)), "time_s is not finite"),
+    (lambda p: p.write_text("\n".join(line if i == 0 or i % 10 else "nan" + line[line.index(","):]
+                                       for i, line in enumerate(p.read_text().splitlines()))), "rows have no finite time_s"),
     (lambda p: p.write_text(p.read_text().replace("\n0.5,", "\n0.2,", 1)), "time_s must increase"),
     (lambda p: p.with_suffix(".json").write_text("[1, 2]"), "must be a JSON object"),
     (lambda p: p.with_suffix(".json").write_text('{"kind": "knee", "subject": {"mass_kg": "heavy"}}'),
@@ -122,3 +123,66 @@ def test_an_oversized_csv_is_refused_before_loading(tmp_path: Path) -> None:
         fh.write("0,0,0\n" * (MAX_ROWS + 1))
     with pytest.raises(DataFileError, match="data rows"):
         read_trial_csv(path)
+
+
+def test_a_row_without_a_time_is_left_out_and_counted_not_the_whole_trial(tmp_path: Path) -> None:
+    """One corrupt time cell in a long recording costs that row, not the trial (both readers say so)."""
+    from analysis.diagnosis import diagnose, from_table
+
+    path = _knee_csv(tmp_path / "t.csv")
+    lines = path.read_text().splitlines()
+    for row in (17, 400):
+        lines[row] = "nan" + lines[row][lines[row].index(","):]
+    lines[600] = "," + lines[600].split(",", 1)[1]  # an empty time cell
+    path.write_text("\n".join(lines) + "\n")
+    table = read_trial_csv(path)
+    assert table.rows_without_time == 3 and table.time_s.size == 1000 - 3
+    assert "3 rows without a time left out" in trial_from_table(table).name
+    result = diagnose(from_table(table))
+    assert result.rows_left_out == {"no time": 3}
+    assert any("3 row(s) left out (3 no time)" in n for n in result.notes)
+    assert result.as_dict()["rows_left_out"] == {"no time": 3}
+
+
+def test_diagnose_counts_every_row_it_leaves_out_by_reason() -> None:
+    from analysis.diagnosis import DiagnosisTrial
+
+    t = np.arange(0.0, 20.0, 0.01)
+    angle = np.deg2rad(45.0 - 45.0 * np.cos(2 * np.pi * t / 20.0))
+    torque = 5.0 * angle
+    t[[3, 50]] = np.nan
+    angle[[7, 8, 9]] = np.inf
+    torque[[11, 50]] = np.nan  # row 50 has no time either: counted once, as "no time"
+    trial = DiagnosisTrial("knee", t, angle, torque)
+    assert trial.rows_left_out == {"no time": 2, "angle not finite": 3, "torque not finite": 1}
+    assert trial.time_s.size == 2000 - 6
+    assert trial.left_out_text().startswith("6 row(s) left out")
+
+
+@given(st.integers(min_value=0, max_value=300))
+@settings(max_examples=15, deadline=None)
+def test_more_than_five_percent_of_rows_without_time_is_refused(missing: int) -> None:
+    from analysis.diagnosis import DiagnosisTrial
+
+    rng = np.random.default_rng(missing)
+    t = np.arange(0.0, 20.0, 0.01)
+    angle = np.deg2rad(45.0 - 45.0 * np.cos(2 * np.pi * t / 20.0))
+    t[rng.choice(t.size, missing, replace=False)] = np.nan
+    if missing > 0.05 * t.size:
+        with pytest.raises(InputError, match="rows have no finite time"):
+            DiagnosisTrial("knee", t, angle, angle)
+    else:
+        assert DiagnosisTrial("knee", t, angle, angle).rows_left_out.get("no time", 0) == missing
+
+
+@pytest.mark.parametrize("kind, moves_deg", [("knee", 0.0), ("knee", 3.0), ("ankle", 1.0), ("afo", 0.5)])
+def test_a_trial_whose_angle_does_not_move_is_refused_by_the_diagnosis(kind: str, moves_deg: float) -> None:
+    from analysis.diagnosis import DiagnosisTrial, diagnose
+
+    rng = np.random.default_rng(3)
+    t = np.arange(0.0, 30.0, 0.01)
+    angle = np.deg2rad(10.0 + moves_deg * np.sin(2 * np.pi * t / 10.0) + rng.normal(0, 0.05, t.size))
+    trial = DiagnosisTrial(kind, t, angle, rng.normal(0, 0.2, t.size), {"hip_flexion_deg": 90.0})
+    with pytest.raises(InputError, match="does not move") as err:
+        diagnose(trial)
+    assert "\n" not in str(err.value)
