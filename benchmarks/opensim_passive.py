@@ -13,7 +13,14 @@ The request names the ``.osim`` model, the muscles' parameters, the poses and th
   (ε₀) and ``tendon_strain`` (ε_T0); the others keep the model's values;
 * ``compliant_knee_tendons``: False (default) makes every muscle but the calf ones rigid-tendoned;
 * ``activation``: the muscles' activation (0 for a relaxed subject; 0.01 is DGF's minimum);
-* ``poses``: list of ``{"hip": rad, "knee": rad, "ankle": rad}``.
+* ``poses``: list of ``{"hip": rad, "knee": rad, "ankle": rad}``;
+* ``unmodelled_muscles``: True adds the passive forces of every other right-leg muscle crossing the
+  knee or the ankle (gracilis, sartorius, tensor fasciae latae, the toe extensors and flexors, the
+  peronei, tibialis anterior and posterior: :data:`OTHER_MUSCLES`) at the model's own parameters;
+* ``limit_forces``: OpenSim's own ``CoordinateLimitForce`` per coordinate, ``{"knee": {"upper_deg",
+  "upper_stiffness_Nm_per_deg", "lower_deg", "lower_stiffness_Nm_per_deg", "transition_deg"}, ...}``
+  (capsule and ligaments at the range's ends); their generalized force (``calcLimitForce``) is added
+  to the coordinate's moment.
 
 At each pose the coordinates are set and the pose assembled; each muscle's tendon force at rest
 comes from OpenSim's own curves (``calcPassiveForceMultiplier``, ``calcTendonForceMultiplier``,
@@ -34,6 +41,8 @@ from typing import Any
 MUSCLES = ("bflh", "bfsh", "gaslat", "gasmed", "soleus", "semimem", "semiten", "vasint", "vaslat", "vasmed", "recfem")
 CALF = ("soleus", "gasmed", "gaslat")
 COORDINATES = {"hip": "hip_flexion_r", "knee": "knee_angle_r", "ankle": "ankle_angle_r"}
+#: muscles of Rajagopal 2016 crossing the knee or ankle that the estimator does not model
+OTHER_MUSCLES = ("grac", "sart", "tfl", "edl", "ehl", "fdl", "fhl", "perbrev", "perlong", "tibant", "tibpost")
 
 
 def model_facts(model_path: str) -> dict[str, Any]:
@@ -102,7 +111,16 @@ def passive_moments(request: dict[str, Any]) -> dict[str, Any]:
     osim.DeGrooteFregly2016Muscle.replaceMuscles(model)
     activation = float(request.get("activation", 0.0))
     compliant_knee = bool(request.get("compliant_knee_tendons", False))
-    for name in MUSCLES:
+    everyone = MUSCLES + (OTHER_MUSCLES if request.get("unmodelled_muscles") else ())
+    limits = {}
+    for key, spec in (request.get("limit_forces") or {}).items():
+        clf = osim.CoordinateLimitForce(COORDINATES[key], float(spec["upper_deg"]), float(spec["upper_stiffness_Nm_per_deg"]),
+                                        float(spec["lower_deg"]), float(spec["lower_stiffness_Nm_per_deg"]), 0.0,
+                                        float(spec.get("transition_deg", 2.0)))
+        clf.setName(f"{key}_limit")
+        model.addForce(clf)
+        limits[key] = clf
+    for name in everyone:
         m = osim.DeGrooteFregly2016Muscle.safeDownCast(model.getMuscles().get(f"{name}_r"))
         p = request.get("parameters", {}).get(name, {})
         if "tendon_slack_length_m" in p:
@@ -117,11 +135,12 @@ def passive_moments(request: dict[str, Any]) -> dict[str, Any]:
     state = model.initSystem()
     coords = {k: model.getCoordinateSet().get(v) for k, v in COORDINATES.items()}
     muscles = {name: osim.DeGrooteFregly2016Muscle.safeDownCast(model.getMuscles().get(f"{name}_r"))
-               for name in MUSCLES}
+               for name in everyone}
     moments: dict[str, list[float]] = {k: [] for k in COORDINATES}
-    lengths: dict[str, list[float]] = {name: [] for name in MUSCLES}
-    arms: dict[str, dict[str, list[float]]] = {name: {k: [] for k in COORDINATES} for name in MUSCLES}
-    forces: dict[str, list[float]] = {name: [] for name in MUSCLES}
+    lengths: dict[str, list[float]] = {name: [] for name in everyone}
+    arms: dict[str, dict[str, list[float]]] = {name: {k: [] for k in COORDINATES} for name in everyone}
+    forces: dict[str, list[float]] = {name: [] for name in everyone}
+    limit_moments: dict[str, list[float]] = {k: [] for k in limits}
     for pose in request["poses"]:
         for k, c in coords.items():
             c.setValue(state, float(pose[k]), False)
@@ -138,9 +157,14 @@ def passive_moments(request: dict[str, Any]) -> dict[str, Any]:
                 r = m.computeMomentArm(state, c)
                 arms[name][k].append(r)
                 total[k] += f * r
+        model.realizeVelocity(state)
+        for k, clf in limits.items():
+            limit_moments[k].append(clf.calcLimitForce(state))
+            total[k] += limit_moments[k][-1]
         for k in COORDINATES:
             moments[k].append(total[k])
-    return {"moments_nm": moments, "path_length_m": lengths, "moment_arm_m": arms, "tendon_force_n": forces}
+    return {"moments_nm": moments, "path_length_m": lengths, "moment_arm_m": arms, "tendon_force_n": forces,
+            "limit_moments_nm": limit_moments}
 
 
 def _static_tendon_force(m: Any, path_length_m: float, activation: float) -> float:

@@ -120,8 +120,13 @@ def limb_weight_nm(joint: str, angle_rad: np.ndarray, fixed: dict[str, float], m
 
 def make_trials(truth: dict[str, dict[str, float]], seed: int, *, variant: str = "base", mass_kg: float = 75.0,
                 shank_m: float = 0.3965, foot_m: float = 0.26, torque_noise_nm: float = 0.1,
-                angle_noise_deg: float = 0.1, max_torque_nm: float = 150.0) -> list[TruthTrial]:
-    """The six sweeps of one subject with ``truth`` parameters (OpenSim-made passive moments)."""
+                angle_noise_deg: float = 0.1, max_torque_nm: float = 150.0,
+                limit_forces: dict[str, dict[str, float]] | None = None,
+                unmodelled_muscles: bool = False) -> list[TruthTrial]:
+    """The six sweeps of one subject with ``truth`` parameters (OpenSim-made passive moments); with
+    ``limit_forces`` OpenSim's ``CoordinateLimitForce`` at those coordinates' range ends, with
+    ``unmodelled_muscles`` the passive forces of every other muscle crossing knee or ankle
+    (:mod:`benchmarks.opensim_passive`)."""
     rng = np.random.default_rng(10_000 + seed)
     plan = sweeps()
     poses, spans = [], []
@@ -133,7 +138,8 @@ def make_trials(truth: dict[str, dict[str, float]], seed: int, *, variant: str =
             pose[joint] = float(q)
             poses.append(pose)
     request = {"model": str(model_path()), "parameters": truth, "poses": poses,
-               "compliant_knee_tendons": variant == "realistic", "activation": 0.01 if variant == "realistic" else 0.0}
+               "compliant_knee_tendons": variant == "realistic", "activation": 0.01 if variant == "realistic" else 0.0,
+               "limit_forces": limit_forces or {}, "unmodelled_muscles": unmodelled_muscles}
     answer = opensim(request)
     trials = []
     for i, ((joint, fixed, start, end, name), grid) in enumerate(zip(plan, spans)):

@@ -285,7 +285,8 @@ def _eliminate_tendons(moment: Any, residuals: list[Any], lts: list[Any], args: 
 def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None = None, intervals: int = 40,
              max_iter: int = 300, initial: dict[str, float] | None = None, parameters: ParameterSet | None = None,
              moment: Any = None, extension: Any = None,
-             progress: Callable[[int, float], None] | None = None) -> PmpResult:
+             progress: Callable[[int, float], None] | None = None,
+             held_out_s: list[list[tuple[float, float]]] | None = None) -> PmpResult:
     """Fit the passive parameters shared by ``trials`` (all at once).
 
     ``progress(iteration, objective)`` is called after every IPOPT iteration (a progress line for
@@ -298,6 +299,9 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
     ``extension`` (an :class:`analysis.pmp.model_diagnosis.Extension`) adds its terms to the
     dynamics and its parameters to the decision variables, fitted with the muscles' (the model-level
     diagnosis); its estimates are in ``PmpResult.extension_parameters``.
+
+    ``held_out_s`` (per trial, a list of (start, end) time windows, s) leaves the torque in those
+    windows out of the cost (the motion is still tracked): the model-level diagnosis's held-out blocks.
 
     :raises InputError: a trial is empty or moves another joint than knee/ankle.
     """
@@ -322,12 +326,14 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
     if n_ext:
         e_size = np.asarray(extension.typical, dtype=float)
         opti.subject_to(opti.bounded(np.asarray(extension.lower) / e_size, e_scaled, np.asarray(extension.upper) / e_size))
-        opti.set_initial(e_scaled, np.clip(0.0, np.asarray(extension.lower) / e_size, np.asarray(extension.upper) / e_size))
+        e_start = np.asarray(extension.start if extension.start is not None else np.zeros(n_ext), dtype=float)
+        opti.set_initial(e_scaled, np.clip(e_start / e_size, np.asarray(extension.lower) / e_size,
+                                           np.asarray(extension.upper) / e_size))
     else:
         opti.subject_to(e_scaled == 0)
     cost = 0
     outputs = []
-    for t in trials:
+    for i_trial, t in enumerate(trials):
         if t.joint not in ("knee", "ankle"):
             raise InputError(f"{t.name}: the moving joint must be knee or ankle, not {t.joint!r}")
         if t.time_s.size < 10:
@@ -392,8 +398,11 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
         w[1::2] = 4.0
         w[0] = w[-1] = 1.0
         w *= (dt / 2) / 3 / (tt[-1] - tt[0])  # Simpson weights, normalised to a mean
-        err = ((q - qm) / SIGMA_Q_RAD) ** 2 + ((v - vm) / SIGMA_V_RAD_S) ** 2 + ((u * u_scale - um) / SIGMA_U_NM) ** 2
-        cost = cost + ca.dot(ca.DM(w), err)
+        w_u = w.copy()
+        for start_s, end_s in (held_out_s[i_trial] if held_out_s else []):
+            w_u[(tt >= start_s) & (tt <= end_s)] = 0.0
+        err = ((q - qm) / SIGMA_Q_RAD) ** 2 + ((v - vm) / SIGMA_V_RAD_S) ** 2
+        cost = cost + ca.dot(ca.DM(w), err) + ca.dot(ca.DM(w_u), ((u * u_scale - um) / SIGMA_U_NM) ** 2)
         outputs.append((t, tt, q, v, u, u_scale, qm, vm, um))
     prior_sd = np.array([PRIOR_RELATIVE_SD[n.split(".")[1]] for n in pset.names]) if parameters is None \
         else np.full(n_par, 0.1)
@@ -443,7 +452,7 @@ def moment_function(leg: LegMuscles, trial: PmpTrial, parameters: dict[str, floa
 
 def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None = None,
                     rel_se_limit: float = 0.035, stride: int = 1, misfit_limit: float = MISFIT_LIMIT,
-                    model_error_nm: float | None = None) -> dict[str, Any]:
+                    model_error_nm: float | None = None, extension: Any = None) -> dict[str, Any]:
     """Which parameters the trials determine, with honest 95 % intervals.
 
     Uncertainty: the torque residuals e = u_model(q) − u_measured at every measured sample
@@ -467,6 +476,12 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     moment-arm signs) is determined too — otherwise they can share the load in ways the local
     curvature does not see. The eigenvectors of the information with eigenvalues below
     1/limit² are the combinations the data leave free, listed with their largest components.
+
+    With ``extension`` (the one ``result`` was fitted with), its terms are in the model and its
+    parameters are nuisances fitted jointly: the muscles' information is the Schur complement
+    I_mm − I_mn I_nn⁺ I_nm (the nuisances profiled out, to first order: a muscle parameter that
+    trades against the extension gets the wider interval it deserves), and the least-squares
+    solution operator is the one with the nuisances free.
     """
     import casadi as ca
 
@@ -476,25 +491,43 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     values = np.array([result.parameters[n] for n in names])
     prel = ca.SX.sym("p", len(names))
     par = {n: values[i] * prel[i] for i, n in enumerate(names)}
-    q = ca.SX.sym("q")
+    ext_names = list(extension.parameters) if extension is not None else []
+    ext_size = np.asarray(extension.typical, dtype=float) if extension is not None else np.zeros(0)
+    ext_values = np.array([result.extension_parameters.get(n, 0.0) for n in ext_names])
+    # a nuisance moves by its typical size per unit of its symbol (its value may be 0)
+    erel = ca.SX.sym("e", len(ext_names))
+    ext_par = [float(ext_values[i]) + float(ext_size[i]) * erel[i] for i in range(len(ext_names))]
+    q, v = ca.SX.sym("q"), ca.SX.sym("v")
     rows, residual_parts, noise_parts = [], [], []
     for t in trials:
-        moment = _eliminate_tendons(*_muscles_moment(leg, t, q, par), [q, prel])
-        model_u = -(moment + subject.gravity_moment_nm(t.joint, q, t.fixed_rad, ca.cos))
+        q_joint = extension.joint_angle(t, q, ext_par) if extension is not None else q
+        moment = _eliminate_tendons(*_muscles_moment(leg, t, q_joint, par), [q, prel, erel])
+        if extension is not None and extension.angle is not None:  # virtual work, as in the fit
+            moment = moment * ca.jacobian(q_joint, q)
+        gravity = subject.gravity_moment_nm(t.joint, q, t.fixed_rad, ca.cos)
+        model_u = -(moment + gravity + (extension.moment(t, q, v, ext_par, gravity) if extension is not None else 0))
         angle = _smoothed(t.angle_rad)[::stride]  # angle noise must not pass for torque misfit on steep curves
-        f = ca.Function("u", [q, prel], [model_u, ca.jacobian(model_u, prel)]).map(angle.size)
-        u_pred, jac = f(angle.reshape(1, -1), ca.repmat(ca.DM.ones(len(names)), 1, angle.size))
-        rows.append(np.asarray(jac).reshape(-1, len(names)))  # the map lays the 1×k rows side by side
+        velocity = _smoothed(t.velocity_rad_s)[::stride]
+        both = ca.vertcat(prel, erel)
+        f = ca.Function("u", [q, v, prel, erel], [model_u, ca.jacobian(model_u, both)]).map(angle.size)
+        u_pred, jac = f(angle.reshape(1, -1), velocity.reshape(1, -1), ca.repmat(ca.DM.ones(len(names)), 1, angle.size),
+                        ca.DM.zeros(len(ext_names), angle.size))
+        rows.append(np.asarray(jac).reshape(-1, len(names) + len(ext_names)))  # the map lays the rows side by side
         residual_parts.append(np.asarray(u_pred).ravel() - t.torque_nm[::stride])
         # white noise from second differences (the smooth moment curve hardly has any): var(Δ²e) = 6σ²
         noise_parts.append(np.diff(t.torque_nm, 2) / np.sqrt(6.0))
-    j = np.vstack(rows)
+    j_all = np.vstack(rows)
+    j, j_ext = j_all[:, :len(names)], j_all[:, len(names):]
     n_samples, k = j.shape
     residual_rms = float(np.sqrt(np.mean(np.concatenate(residual_parts) ** 2)))
     noise = float(1.4826 * np.median(np.abs(np.concatenate(noise_parts))))  # robust σ of white noise
-    sigma2 = float(np.sum(np.concatenate(residual_parts) ** 2) / max(n_samples - k, 1))
+    sigma2 = float(np.sum(np.concatenate(residual_parts) ** 2) / max(n_samples - k - len(ext_names), 1))
     n_eff = float(sum(e.size / _autocorrelation_time(e) for e in residual_parts))
-    info = j.T @ j / (sigma2 * n_samples / max(n_eff, 1.0))
+    scale_c = sigma2 * n_samples / max(n_eff, 1.0)
+    if ext_names:
+        # the nuisances profiled out: the muscles' columns made orthogonal to the extension's
+        j = j - j_ext @ (np.linalg.pinv(j_ext.T @ j_ext, rcond=1e-10) @ (j_ext.T @ j))
+    info = j.T @ j / scale_c
     w, vecs = np.linalg.eigh(info)
     keep = w > 1.0 / rel_se_limit**2
     cov = (vecs[:, keep] / w[keep]) @ vecs[:, keep].T
@@ -502,7 +535,7 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     # the forward model's own error (against OpenSim, MODEL_ERROR_RMS_NM per sample) biases the fit
     # by at most |a_k|·|δ| for parameter k (a_k: row k of the least-squares solution operator,
     # restricted to the constrained directions; |δ| = RMS·√n): a bound added to the interval
-    solve_rows = (vecs[:, keep] / w[keep]) @ vecs[:, keep].T @ j.T / (sigma2 * n_samples / max(n_eff, 1.0))
+    solve_rows = (vecs[:, keep] / w[keep]) @ vecs[:, keep].T @ j.T / scale_c
     bias = np.sqrt(np.sum(solve_rows**2, axis=1)) * model_error_nm * np.sqrt(n_samples)
     # a parameter is determined only if it has (almost) no part in the unconstrained directions
     free_part = np.sqrt(np.sum(vecs[:, ~keep] ** 2, axis=1)) if (~keep).any() else np.zeros(len(names))
@@ -550,7 +583,10 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
             "residual_rms_nm": residual_rms, "noise_nm": noise, "misfit_ratio": misfit_ratio,
             "effective_samples": n_eff, "samples": n_samples, "not_determined_because": reasons,
             "uncertainty": "least-squares covariance with the residual's variance, inflated by n/n_eff "
-                           "(integrated autocorrelation time of the residual)"}
+                           "(integrated autocorrelation time of the residual)"
+                           + (f"; the {extension.name} parameters fitted jointly as nuisances (profiled out)"
+                              if extension is not None else ""),
+            "extension": extension.name if extension is not None else None}
 
 
 def _smoothed(angle_rad: np.ndarray) -> np.ndarray:
