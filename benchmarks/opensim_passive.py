@@ -41,6 +41,8 @@ from typing import Any
 MUSCLES = ("bflh", "bfsh", "gaslat", "gasmed", "soleus", "semimem", "semiten", "vasint", "vaslat", "vasmed", "recfem")
 CALF = ("soleus", "gasmed", "gaslat")
 COORDINATES = {"hip": "hip_flexion_r", "knee": "knee_angle_r", "ankle": "ankle_angle_r"}
+#: the line before the JSON answer on stdout (OpenSim's log lines may come first)
+ANSWER_MARKER = "@@opensim-passive-answer@@"
 #: muscles of Rajagopal 2016 crossing the knee or ankle that the estimator does not model
 OTHER_MUSCLES = ("grac", "sart", "tfl", "edl", "ehl", "fdl", "fhl", "perbrev", "perlong", "tibant", "tibpost")
 
@@ -214,6 +216,9 @@ def main() -> int:
         answer = path_geometry(request)
     else:
         answer = passive_moments(request)
+    # OpenSim's logger writes to stdout too (an assembly that misses its tolerance by 1e-9 at some pose):
+    # the answer follows a marker line, and the reader takes what comes after it
+    sys.stdout.write("\n" + ANSWER_MARKER + "\n")
     json.dump(answer, sys.stdout)
     return 0
 

@@ -75,7 +75,12 @@ def opensim(request: dict[str, Any], timeout_s: float = 600.0) -> dict[str, Any]
                          capture_output=True, text=True, timeout=timeout_s, cwd=Path(__file__).resolve().parents[1])
     if out.returncode != 0:
         raise RuntimeError(f"OpenSim truth failed: {out.stderr[-2000:]}")
-    return json.loads(out.stdout)
+    from .opensim_passive import ANSWER_MARKER
+
+    try:
+        return json.loads(out.stdout.split(ANSWER_MARKER, 1)[-1])
+    except json.JSONDecodeError as err:
+        raise RuntimeError(f"OpenSim truth answered no JSON ({err}): {out.stdout[:300]!r} {out.stderr[-1000:]!r}") from err
 
 
 def generic_parameters() -> dict[str, dict[str, float]]:
@@ -122,19 +127,26 @@ def make_trials(truth: dict[str, dict[str, float]], seed: int, *, variant: str =
                 shank_m: float = 0.3965, foot_m: float = 0.26, torque_noise_nm: float = 0.1,
                 angle_noise_deg: float = 0.1, max_torque_nm: float = 150.0,
                 limit_forces: dict[str, dict[str, float]] | None = None,
-                unmodelled_muscles: bool = False) -> list[TruthTrial]:
+                unmodelled_muscles: bool = False, set_angle_errors_rad: list[float] | None = None) -> list[TruthTrial]:
     """The six sweeps of one subject with ``truth`` parameters (OpenSim-made passive moments); with
     ``limit_forces`` OpenSim's ``CoordinateLimitForce`` at those coordinates' range ends, with
     ``unmodelled_muscles`` the passive forces of every other muscle crossing knee or ankle
-    (:mod:`benchmarks.opensim_passive`)."""
+    (:mod:`benchmarks.opensim_passive`); with ``set_angle_errors_rad`` (one per sweep) the fixed joint (hip
+    for the knee sweeps, knee for the ankle ones) truly sits that far from the angle the trial records."""
     rng = np.random.default_rng(10_000 + seed)
     plan = sweeps()
     poses, spans = [], []
-    for joint, fixed, start, end, _ in plan:
+    true_fixed = []
+    for i, (joint, fixed, start, end, _) in enumerate(plan):
         grid = np.radians(np.linspace(start, end, POSES_PER_SWEEP))
         spans.append(grid)
+        actual = dict(fixed)
+        if set_angle_errors_rad is not None:
+            other = "hip" if joint == "knee" else "knee"
+            actual[other] = fixed.get(other, 0.0) + float(set_angle_errors_rad[i])
+        true_fixed.append(actual)
         for q in grid:
-            pose = {"hip": fixed.get("hip", 0.0), "knee": fixed.get("knee", 0.0), "ankle": fixed.get("ankle", 0.0)}
+            pose = {"hip": actual.get("hip", 0.0), "knee": actual.get("knee", 0.0), "ankle": actual.get("ankle", 0.0)}
             pose[joint] = float(q)
             poses.append(pose)
     request = {"model": str(model_path()), "parameters": truth, "poses": poses,
@@ -151,7 +163,7 @@ def make_trials(truth: dict[str, dict[str, float]], seed: int, *, variant: str =
         q = np.radians(start + np.sign(end - start) * SPEED_DEG_S * t)
         v = np.full(t.size, np.radians(SPEED_DEG_S) * np.sign(end - start))
         passive = spline(q)
-        u = -(passive + limb_weight_nm(joint, q, fixed, mass_kg, shank_m, foot_m))
+        u = -(passive + limb_weight_nm(joint, q, true_fixed[i], mass_kg, shank_m, foot_m))
         # the dynamometer's torque ceiling: where the generic hamstrings at hip 90° would need more
         # (tens of kN in semimembranosus near full extension), the sweep starts where it falls below
         inside = np.abs(u) <= max_torque_nm

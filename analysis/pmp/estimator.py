@@ -74,14 +74,24 @@ class PmpTrial:
     name: str = ""
 
 
+#: how well a lab measures what the model is scaled and posed by, one standard deviation: a tape on the
+#: shank within ±5 mm, a goniometer or the chair's scale on a fixed joint within ±3°, a scale within ±0.5 kg,
+#: each bound taken as two SD (95 %)
+MEASUREMENT_SD = {"shank_length_m": 0.0025, "set_angle_rad": math.radians(1.5), "mass_kg": 0.25}
+
+
 @dataclass
 class Subject:
-    """Anthropometrics for gravity, inertia and muscle scaling (Winter's segment fractions)."""
+    """Anthropometrics for gravity, inertia and muscle scaling (Winter's segment fractions), and how well each
+    was measured (one SD, :data:`MEASUREMENT_SD` by default): the intervals carry these uncertainties."""
 
     mass_kg: float = 75.0
     shank_length_m: float = 0.42
     foot_length_m: float = 0.26
     arm_inertia_kgm2: float = 0.0
+    shank_length_sd_m: float = MEASUREMENT_SD["shank_length_m"]
+    set_angle_sd_rad: float = MEASUREMENT_SD["set_angle_rad"]
+    mass_sd_kg: float = MEASUREMENT_SD["mass_kg"]
 
     def inertia_kgm2(self, joint: str) -> float:
         m, ls, lf = self.mass_kg, self.shank_length_m, self.foot_length_m
@@ -498,34 +508,64 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     erel = ca.SX.sym("e", len(ext_names))
     ext_par = [float(ext_values[i]) + float(ext_size[i]) * erel[i] for i in range(len(ext_names))]
     q, v = ca.SX.sym("q"), ca.SX.sym("v")
-    rows, residual_parts, noise_parts = [], [], []
-    for t in trials:
-        q_joint = extension.joint_angle(t, q, ext_par) if extension is not None else q
-        moment = _eliminate_tendons(*_muscles_moment(leg, t, q_joint, par), [q, prel, erel])
+    # what was measured, not fitted, as nuisances with their measurement SD as prior: the shank (it scales
+    # every path; a 5 mm tape error moved both determined slack lengths by 1.3 %, outside intervals of
+    # ±0.4 % that took the shank as exact), each fixed joint's set angle, and the body mass (limb weight)
+    conditions = sorted({(t.joint, _other_joint(t), round(t.fixed_rad.get(_other_joint(t), 0.0), 6)) for t in trials})
+    measured = (["shank_length_scale"] + [f"{o}_set_angle_{math.degrees(a):.0f}deg ({j} trials)" for j, o, a in conditions]
+                + ["mass_kg"])
+    prior_sd = np.array([subject.shank_length_sd_m / subject.shank_length_m]
+                        + [subject.set_angle_sd_rad] * len(conditions) + [subject.mass_sd_kg])
+
+    def model_u_of(t: PmpTrial, use_leg: LegMuscles, fixed: dict[str, float], mass_kg: float) -> Any:
+        tt = PmpTrial(t.joint, fixed, t.time_s, t.angle_rad, t.velocity_rad_s, t.torque_nm, t.name)
+        q_joint = extension.joint_angle(tt, q, ext_par) if extension is not None else q
+        moment = _eliminate_tendons(*_muscles_moment(use_leg, tt, q_joint, par), [q, prel, erel])
         if extension is not None and extension.angle is not None:  # virtual work, as in the fit
             moment = moment * ca.jacobian(q_joint, q)
-        gravity = subject.gravity_moment_nm(t.joint, q, t.fixed_rad, ca.cos)
-        model_u = -(moment + gravity + (extension.moment(t, q, v, ext_par, gravity) if extension is not None else 0))
+        body = Subject(mass_kg, subject.shank_length_m, subject.foot_length_m, subject.arm_inertia_kgm2)
+        gravity = body.gravity_moment_nm(t.joint, q, fixed, ca.cos)
+        return -(moment + gravity + (extension.moment(tt, q, v, ext_par, gravity) if extension is not None else 0))
+
+    step_scale, step_angle, step_mass = 1e-4, 1e-4, 1e-2
+    scaled_leg = leg.rescaled(1.0 + step_scale)
+    rows, residual_parts, noise_parts = [], [], []
+    for t in trials:
+        model_u = model_u_of(t, leg, t.fixed_rad, subject.mass_kg)
         angle = _smoothed(t.angle_rad)[::stride]  # angle noise must not pass for torque misfit on steep curves
         velocity = _smoothed(t.velocity_rad_s)[::stride]
         both = ca.vertcat(prel, erel)
-        f = ca.Function("u", [q, v, prel, erel], [model_u, ca.jacobian(model_u, both)]).map(angle.size)
-        u_pred, jac = f(angle.reshape(1, -1), velocity.reshape(1, -1), ca.repmat(ca.DM.ones(len(names)), 1, angle.size),
-                        ca.DM.zeros(len(ext_names), angle.size))
-        rows.append(np.asarray(jac).reshape(-1, len(names) + len(ext_names)))  # the map lays the rows side by side
-        residual_parts.append(np.asarray(u_pred).ravel() - t.torque_nm[::stride])
+        other = _other_joint(t)
+        shifted = dict(t.fixed_rad)
+        shifted[other] = t.fixed_rad.get(other, 0.0) + step_angle
+        variants = [model_u_of(t, scaled_leg, t.fixed_rad, subject.mass_kg), model_u_of(t, leg, shifted, subject.mass_kg),
+                    model_u_of(t, leg, t.fixed_rad, subject.mass_kg + step_mass)]
+        f = ca.Function("u", [q, v, prel, erel], [model_u, ca.jacobian(model_u, both), *variants]).map(angle.size)
+        out = f(angle.reshape(1, -1), velocity.reshape(1, -1), ca.repmat(ca.DM.ones(len(names)), 1, angle.size),
+                ca.DM.zeros(len(ext_names), angle.size))
+        u_pred = np.asarray(out[0]).ravel()
+        rows.append(np.asarray(out[1]).reshape(-1, len(names) + len(ext_names)))  # the map lays the rows side by side
+        cols = np.zeros((angle.size, len(measured)))
+        cols[:, 0] = (np.asarray(out[2]).ravel() - u_pred) / step_scale
+        key = (t.joint, other, round(t.fixed_rad.get(other, 0.0), 6))
+        cols[:, 1 + conditions.index(key)] = (np.asarray(out[3]).ravel() - u_pred) / step_angle
+        cols[:, -1] = (np.asarray(out[4]).ravel() - u_pred) / step_mass
+        rows[-1] = np.hstack([rows[-1], cols])
+        residual_parts.append(u_pred - t.torque_nm[::stride])
         # white noise from second differences (the smooth moment curve hardly has any): var(Δ²e) = 6σ²
         noise_parts.append(np.diff(t.torque_nm, 2) / np.sqrt(6.0))
     j_all = np.vstack(rows)
-    j, j_ext = j_all[:, :len(names)], j_all[:, len(names):]
+    j, j_nuis = j_all[:, :len(names)], j_all[:, len(names):]
     n_samples, k = j.shape
     residual_rms = float(np.sqrt(np.mean(np.concatenate(residual_parts) ** 2)))
     noise = float(1.4826 * np.median(np.abs(np.concatenate(noise_parts))))  # robust σ of white noise
     sigma2 = float(np.sum(np.concatenate(residual_parts) ** 2) / max(n_samples - k - len(ext_names), 1))
     n_eff = float(sum(e.size / _autocorrelation_time(e) for e in residual_parts))
     scale_c = sigma2 * n_samples / max(n_eff, 1.0)
+    j_ext, j_meas = j_nuis[:, :len(ext_names)], j_nuis[:, len(ext_names):]
     if ext_names:
-        # the nuisances profiled out: the muscles' columns made orthogonal to the extension's
+        # the extension's parameters profiled out (fitted jointly, first order): the muscles' columns made
+        # orthogonal to the extension's
         j = j - j_ext @ (np.linalg.pinv(j_ext.T @ j_ext, rcond=1e-10) @ (j_ext.T @ j))
     info = j.T @ j / scale_c
     w, vecs = np.linalg.eigh(info)
@@ -539,7 +579,14 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     bias = np.sqrt(np.sum(solve_rows**2, axis=1)) * model_error_nm * np.sqrt(n_samples)
     # a parameter is determined only if it has (almost) no part in the unconstrained directions
     free_part = np.sqrt(np.sum(vecs[:, ~keep] ** 2, axis=1)) if (~keep).any() else np.zeros(len(names))
-    half_width = 1.96 * se + bias
+    # the measured quantities (shank, set angles, mass) enter as they were entered; an error Δ in one shifts the
+    # estimate by C·Jᵀ·J_Δ·Δ / c (the fit's response to the torque it causes): their SDs propagated to first
+    # order (delta method) and added to the variance. Profiled into the information instead, the shank took
+    # the slack lengths' information with it and the model-error bound (≈ 90 × the SE) made nothing determined
+    sensitivity = cov @ j.T @ j_meas / scale_c
+    measurement_var = np.sum((sensitivity * prior_sd[None, :]) ** 2, axis=1)
+    se_total = np.sqrt(se**2 + measurement_var)
+    half_width = 1.96 * se_total + bias
     determined = (half_width < 1.96 * rel_se_limit) & (free_part < 0.1)
     misfit_ratio = residual_rms / max(noise, 1e-12)
     reasons = []
@@ -575,7 +622,7 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
         combos.append({"eigenvalue": float(w[i]), "components": {names[k]: float(vecs[k, i]) for k in order}})
     return {"determined": [n for n, d in zip(names, determined) if d],
             "undetermined": [n for n, d in zip(names, determined) if not d],
-            "relative_se": dict(zip(names, se.tolist())),
+            "relative_se": dict(zip(names, se_total.tolist())),
             "ci95": {n: [values[k] * (1 - half_width[k]), values[k] * (1 + half_width[k])]
                      for k, n in enumerate(names) if determined[k]},
             "model_error_bound_rel": dict(zip(names, bias.tolist())),
@@ -585,8 +632,19 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
             "uncertainty": "least-squares covariance with the residual's variance, inflated by n/n_eff "
                            "(integrated autocorrelation time of the residual)"
                            + (f"; the {extension.name} parameters fitted jointly as nuisances (profiled out)"
-                              if extension is not None else ""),
+                              if extension is not None else "")
+                           + f"; the shank length (SD {1e3 * subject.shank_length_sd_m:.1f} mm), each set angle "
+                             f"(SD {math.degrees(subject.set_angle_sd_rad):.1f}°) and the mass (SD {subject.mass_sd_kg:g} kg) "
+                             "as measured inputs whose SDs are propagated to first order (delta method)",
+            "measurement_se_rel": dict(zip(names, np.sqrt(measurement_var).tolist())),
+            "measurement_nuisances": measured,
             "extension": extension.name if extension is not None else None}
+
+
+def _other_joint(trial: PmpTrial) -> str:
+    """The fixed joint whose set angle changes between a moving joint's conditions (hip for the knee, knee
+    for the ankle)."""
+    return "hip" if trial.joint == "knee" else "knee"
 
 
 def _smoothed(angle_rad: np.ndarray) -> np.ndarray:

@@ -12,7 +12,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..trial_csv import SUBJECT_RANGES, TrialTable
-from .estimator import PmpResult, PmpTrial, Subject, estimate, identifiability
+from .estimator import MEASUREMENT_SD, PmpResult, PmpTrial, Subject, estimate, identifiability
 from .geometry import path_ranges_deg
 from .muscles import COMPLIANT, LegMuscles, scale_for_subject
 from .stiffness import FIGURE_QUANTITIES, achilles_stiffness_kn_per_m, representative_values
@@ -90,7 +90,15 @@ def subject_from(data: dict[str, Any]) -> Subject:
                 or not lo <= value <= hi:
             raise InputError(f"subject {key} = {value!r} is outside the allowed range {lo:g}..{hi:g}")
         values[key] = float(value)
-    return Subject(values["mass_kg"], values["shank_length_m"], values["foot_length_m"])
+    # how well each was measured (one SD), if the record says; else the defaults (MEASUREMENT_SD)
+    sd = {key: float(data[key]) for key in ("shank_length_sd_m", "set_angle_sd_deg", "mass_sd_kg")
+          if isinstance(data.get(key), (int, float)) and not isinstance(data.get(key), bool)
+          and math.isfinite(data[key]) and data[key] > 0}
+    return Subject(values["mass_kg"], values["shank_length_m"], values["foot_length_m"],
+                   shank_length_sd_m=sd.get("shank_length_sd_m", MEASUREMENT_SD["shank_length_m"]),
+                   set_angle_sd_rad=math.radians(sd["set_angle_sd_deg"]) if "set_angle_sd_deg" in sd
+                   else MEASUREMENT_SD["set_angle_rad"],
+                   mass_sd_kg=sd.get("mass_sd_kg", MEASUREMENT_SD["mass_kg"]))
 
 
 def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagnose_model: bool = False,
@@ -109,6 +117,34 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
         progress(f"fit done: {res.iterations} iterations, {res.solve_time_s:.1f} s ({res.message}); "
                  f"identifiability and forward dynamics ...")
     idf = identifiability(res, trials, subject, leg=leg)
+    model = None
+    extended: dict[str, Any] | None = None
+    extension = None
+    if diagnose_model:
+        from .model_diagnosis import EXTENSIONS
+        from .model_diagnosis import diagnose_model as run_model_diagnosis
+
+        if progress is not None:
+            progress("model-level diagnosis: each candidate fitted and judged on held-out blocks ...")
+        model = run_model_diagnosis(trials, subject, leg=leg, intervals=model_intervals or intervals,
+                                    plain=res if not model_intervals or model_intervals == intervals else None,
+                                    candidates=model_candidates)
+        if model.cause != "none":
+            # extend the model with what the diagnosis named, refit, and report the extended model's parameters
+            # with the extension's parameters as nuisances in their intervals; the plain fit is kept beside it
+            extension = EXTENSIONS[model.cause]
+            if progress is not None:
+                progress(f"refit with {extension.name} ...")
+            plain_res, plain_idf = res, idf
+            res = estimate(trials, subject, leg=leg, intervals=intervals, extension=extension,
+                           initial=plain_res.parameters)
+            idf = identifiability(res, trials, subject, leg=leg, extension=extension)
+            extended = {"extension": extension.name, "description": extension.description,
+                        "parameters": dict(res.extension_parameters),
+                        "plain_misfit_ratio": plain_idf["misfit_ratio"], "misfit_ratio": idf["misfit_ratio"],
+                        "plain_residual_rms_Nm": plain_idf["residual_rms_nm"], "residual_rms_Nm": idf["residual_rms_nm"],
+                        "plain_determined": list(plain_idf["determined"]), "determined": list(idf["determined"]),
+                        "plain_result": plain_res}
     # the physiological quantities of the determined parameters only (Figures 3.15–3.17's, eq 3.13/3.16)
     rep = representative_values(leg, res.parameters, subject.shank_length_m)
     determined = set(idf["determined"])
@@ -117,18 +153,11 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
     if all(m in stiff["tendon_kN_per_m"] for m in COMPLIANT):
         stiff["achilles_kN_per_m"] = achilles_stiffness_kn_per_m({m: 1e3 * stiff["tendon_kN_per_m"][m] for m in COMPLIANT})
     slack_norm = {m: v for m, v in rep["slack_per_shank"].items() if f"{m}.tendon_slack_length_m" in determined}
-    fd = [forward_dynamics(t, subject, res.parameters, leg=leg) for t in trials]
-    model = None
-    if diagnose_model:
-        from .model_diagnosis import diagnose_model as run_model_diagnosis
-
-        if progress is not None:
-            progress("model-level diagnosis: each candidate fitted and judged on held-out trials ...")
-        model = run_model_diagnosis(trials, subject, leg=leg, intervals=model_intervals or intervals,
-                                    plain=res if not model_intervals or model_intervals == intervals else None,
-                                    candidates=model_candidates)
+    fd = [forward_dynamics(t, subject, res.parameters, leg=leg, extension=extension,
+                           extension_parameters=res.extension_parameters) for t in trials]
     return {"result": res, "identifiability": idf, "stiffness": stiff, "slack_per_shank_length": slack_norm,
-            "forward_dynamics": fd, "leg": leg, "shank_length_m": subject.shank_length_m, "model_diagnosis": model}
+            "forward_dynamics": fd, "leg": leg, "shank_length_m": subject.shank_length_m, "model_diagnosis": model,
+            "extended": extended}
 
 
 def text(report: dict[str, Any], *, timings: bool = True) -> str:
@@ -171,6 +200,18 @@ def text(report: dict[str, Any], *, timings: bool = True) -> str:
                      f"{v.torque_rmse_nm_per_kg:.4f} N·m/kg{why}")
     if report.get("model_diagnosis") is not None:
         lines.append(report["model_diagnosis"].text())
+    ext = report.get("extended")
+    if ext:
+        lines.append(f"the model extended with {ext['extension']} ({ext['description']}): residual "
+                     f"{ext['plain_residual_rms_Nm']:.3g} → {ext['residual_rms_Nm']:.3g} N·m "
+                     f"({ext['plain_misfit_ratio']:.1f}× → {ext['misfit_ratio']:.1f}× the noise); determined "
+                     f"{len(ext['plain_determined'])} → {len(ext['determined'])} parameters (the table above is the "
+                     "extended model's, its intervals with the extension's parameters fitted jointly)")
+        traded = sorted(set(ext["plain_determined"]) - set(ext["determined"]))
+        if traded:
+            lines.append("  trade with the extension (determined by the plain model, not beside it): " + ", ".join(traded)
+                         + "; a return sweep and a second speed do not separate a joint-level structure from a muscle"
+                         " crossing one joint; a second fixed angle of the other joint separates the two-joint ones")
     return "\n".join(lines)
 
 
@@ -183,7 +224,9 @@ def to_json(report: dict[str, Any]) -> dict[str, Any]:
             "slack_per_shank_length": report["slack_per_shank_length"],
             "forward_dynamics": [{"trial": v.name, "angle_rmse_deg": v.angle_rmse_deg,
                                   "torque_rmse_Nm_per_kg": v.torque_rmse_nm_per_kg} for v in report["forward_dynamics"]],
-            "model_diagnosis": report["model_diagnosis"].as_dict() if report.get("model_diagnosis") else None}
+            "model_diagnosis": report["model_diagnosis"].as_dict() if report.get("model_diagnosis") else None,
+            "extended": ({k: v for k, v in report["extended"].items() if k != "plain_result"}
+                         if report.get("extended") else None)}
 
 
 def _parameter_figure(report: dict[str, Any]) -> Any:

@@ -14,6 +14,7 @@ against the measured torque, per body mass (N·m/kg), as the dissertation's Tabl
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -38,14 +39,22 @@ class Verification:
 
 
 def forward_dynamics(trial: PmpTrial, subject: Subject, parameters: dict[str, float], *,
-                     leg: LegMuscles | None = None) -> Verification:
-    """Simulate ``trial`` with ``parameters`` driven by its measured torque."""
+                     leg: LegMuscles | None = None, extension: Any = None,
+                     extension_parameters: dict[str, float] | None = None) -> Verification:
+    """Simulate ``trial`` with ``parameters`` driven by its measured torque; with ``extension`` (a
+    model-level extension's moment term, :class:`analysis.pmp.model_diagnosis.Extension`) and its fitted
+    ``extension_parameters`` in the dynamics too (an extension that maps the joint's angle is not
+    simulated: its muscles act at the arm's angle)."""
     import casadi as ca
 
     f = moment_function(leg or LegMuscles(), trial, parameters)
     inertia = subject.inertia_kgm2(trial.joint)
     q, v, u0, u1, dt, s = (ca.SX.sym(n) for n in ("q", "v", "u0", "u1", "dt", "s"))
-    moment = f(q) + subject.gravity_moment_nm(trial.joint, q, trial.fixed_rad, ca.cos)
+    gravity = subject.gravity_moment_nm(trial.joint, q, trial.fixed_rad, ca.cos)
+    moment = f(q) + gravity
+    if extension is not None:
+        values = [float((extension_parameters or {})[n]) for n in extension.parameters]
+        moment = moment + extension.moment(trial, q, v, values, gravity)
     accel = ca.Function("a", [q, v, u0, u1, s], [(u0 + (u1 - u0) * s + moment - DAMPING_NM_S_PER_RAD * v) / inertia])
     x = ca.vertcat(q, v)
     h = dt / SUBSTEPS
@@ -72,8 +81,9 @@ def forward_dynamics(trial: PmpTrial, subject: Subject, parameters: dict[str, fl
         q_sim = np.full(n, np.nan)
     if not np.all(np.isfinite(q_sim)):
         q_sim = np.full(n, np.nan)
-    holding = ca.Function("u", [q], [-moment]).map(n)
-    model_u = np.asarray(holding(trial.angle_rad.reshape(1, -1))).ravel()  # the torque holding the measured angles
+    holding = ca.Function("u", [q, v], [-moment]).map(n)
+    # the torque holding the measured angles at the measured speeds
+    model_u = np.asarray(holding(trial.angle_rad.reshape(1, -1), trial.velocity_rad_s.reshape(1, -1))).ravel()
     return Verification(trial.name, trial.time_s, q_sim, model_u,
                         float(np.rad2deg(np.sqrt(np.mean((q_sim - trial.angle_rad) ** 2)))),
                         float(np.sqrt(np.mean((model_u - trial.torque_nm) ** 2)) / subject.mass_kg))

@@ -10,7 +10,15 @@ import pytest
 
 from analysis.errors import InputError
 from analysis.pmp.estimator import estimate
-from analysis.pmp.model_diagnosis import EXTENSIONS, diagnose_model, folds_of, predict_torque_nm
+from analysis.pmp.model_diagnosis import (
+    BLOCK_FOLDS,
+    BLOCKS_PER_FOLD,
+    EXTENSIONS,
+    diagnose_model,
+    folds_of,
+    held_out_folds,
+    predict_torque_nm,
+)
 from analysis.pmp.muscles import LegMuscles
 from analysis.pmp.synthetic import simulated_subject
 
@@ -33,7 +41,18 @@ def test_folds_leave_out_repeats_when_there_are_repeats_else_conditions() -> Non
     single = folds_of(trials[:3])
     assert len(single) == 3 and all(len(left) == 1 for _, left in single)
     with pytest.raises(InputError):
-        diagnose_model(trials[:2], _)
+        diagnose_model(trials[:1], _)
+    # without repeats the folds are interleaved time blocks of every trial; the range's ends are always fitted
+    blocks = held_out_folds(trials[:3])
+    assert [f.label for f in blocks] == [f"blocks {k + 1}" for k in range(BLOCK_FOLDS)]
+    for j, t in enumerate(trials[:3]):
+        predicted = np.concatenate([f.predicted[j] for f in blocks])
+        assert np.unique(predicted).size == predicted.size  # each sample predicted by one fold at most
+        edge = (t.time_s[-1] - t.time_s[0]) / (BLOCK_FOLDS * BLOCKS_PER_FOLD)
+        assert t.time_s[predicted].min() >= t.time_s[0] + edge - 1e-9
+        assert t.time_s[predicted].max() <= t.time_s[-1] - edge + 1e-9
+        for f in blocks:  # what a fold predicts it left out of its fit
+            assert all(any(a <= t.time_s[i] <= b for a, b in f.held_out_s[j]) for i in f.predicted[j])
 
 
 def test_an_extension_is_fitted_inside_the_estimator_and_predicts_the_hidden_term() -> None:
@@ -109,3 +128,54 @@ def test_a_knee_axis_offset_in_trials_opensim_made_is_named_with_intervals_holdi
     for key, value in (("knee_axis_sin_rad", offset / PAD_LEVER_M * np.cos(direction)),
                        ("knee_axis_cos_rad", -offset / PAD_LEVER_M * np.sin(direction))):
         assert abs(found.parameters[key] - value) < 0.1 * offset / PAD_LEVER_M, (key, value, found.parameters[key])
+
+
+def _opensim_subject(seed: int, limit_forces: dict | None) -> tuple[list, object, object]:
+    from analysis.pmp.estimator import PmpTrial, Subject
+    from analysis.pmp.muscles import scale_for_subject
+    from benchmarks.opensim_truth import draw_truth, generic_parameters, make_trials
+    from benchmarks.pmp_opensim import SHANK_M
+
+    truth = draw_truth(seed, generic_parameters())
+    made = make_trials(truth, seed, shank_m=SHANK_M, limit_forces=limit_forces)
+    trials = [PmpTrial(t.joint, t.fixed_rad, t.time_s, t.angle_rad, t.velocity_rad_s, t.torque_nm, t.name) for t in made]
+    return trials, Subject(75.0, SHANK_M, 0.26), LegMuscles(length_scale=scale_for_subject(SHANK_M))
+
+
+@pytest.mark.timeout(900)
+@pytest.mark.parametrize("seed", [31])
+def test_end_range_structures_opensim_adds_are_named_with_their_engagement_angles(seed: int) -> None:
+    """OpenSim's own CoordinateLimitForce (a ramp past a limit, not the extension's form) at the knee's and the
+    ankle's range ends, drawn from the seed at the soft end of a capsule's stiffness (0.3–0.6 N·m/°): the
+    diagnosis names the end-range structures on held-out blocks, each engagement angle within 3° of OpenSim's."""
+    from tests.opensim_reference import have_opensim
+
+    if not have_opensim():
+        pytest.skip("OpenSim (in the test extra) is the independent reference")
+    rng = np.random.default_rng(seed)
+    limits = {"knee": {"upper_deg": 90.0 - rng.uniform(5, 15), "upper_stiffness_Nm_per_deg": rng.uniform(0.3, 0.6),
+                       "lower_deg": rng.uniform(5, 15), "lower_stiffness_Nm_per_deg": rng.uniform(0.3, 0.6)},
+              "ankle": {"upper_deg": 15.0 - rng.uniform(3, 8), "upper_stiffness_Nm_per_deg": rng.uniform(0.3, 0.6),
+                        "lower_deg": -30.0 + rng.uniform(3, 8), "lower_stiffness_Nm_per_deg": rng.uniform(0.3, 0.6)}}
+    trials, subject, leg = _opensim_subject(seed, limits)
+    d = diagnose_model(trials, subject, leg=leg, intervals=12, candidates=["end_range_structures", "torque_offset"])
+    assert d.cause == "end_range_structures", d.text()
+    found = d.winner()
+    assert found is not None and found.every_fold_better and found.heldout_ratio < 0.9
+    engage = {"knee_extension": limits["knee"]["lower_deg"], "knee_flexion": 90.0 - limits["knee"]["upper_deg"],
+              "ankle_plantarflexion": limits["ankle"]["lower_deg"] + 30.0,
+              "ankle_dorsiflexion": 15.0 - limits["ankle"]["upper_deg"]}
+    for end, inside_deg in engage.items():  # the engagement angle counts from the range's end into it
+        fitted = np.degrees(found.parameters[f"{end}_end_engage_rad"])
+        assert abs(fitted - inside_deg) < 3.0, (end, inside_deg, fitted)
+
+
+@pytest.mark.timeout(900)
+def test_no_extension_is_named_on_an_opensim_subject_without_one() -> None:
+    from tests.opensim_reference import have_opensim
+
+    if not have_opensim():
+        pytest.skip("OpenSim (in the test extra) is the independent reference")
+    trials, subject, leg = _opensim_subject(32, None)
+    d = diagnose_model(trials, subject, leg=leg, intervals=12, candidates=["end_range_structures", "torque_offset"])
+    assert d.cause == "none", d.text()
