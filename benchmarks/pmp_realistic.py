@@ -46,8 +46,9 @@ VARIANTS = ("matched", "end_range", "unmodelled_muscles", "compliant_tone", "tap
 EXPECTED = {"end_range": "end_range_structures", "unmodelled_muscles": "end_range_structures",
             "compliant_tone": None, "tape": None, "set_angle": None, "matched": None}
 CANDIDATES = ["end_range_structures", "torque_offset", "limb_mass_error"]
-#: seeds of the measured run (never used while the code was developed: development used 900–999)
-SEED_BASE = 7000
+#: seeds of the measured run (never used while the code was developed: development used 900–999; a first
+#: run on 7000– was stopped unread when the misfit rule changed)
+SEED_BASE = 8000
 SUBJECTS_PER_VARIANT = 10
 MASS_KG, FOOT_M = 75.0, 0.26
 

@@ -106,7 +106,7 @@ def _passive_set(protocol: Any, store: SessionStore, same: list[TrialRecord], su
 
 
 #: the model-level diagnosis's candidates in the operator's set analysis (as the demo runs them)
-MODEL_CANDIDATES = ("viscous_damping", "limb_mass_error", "torque_offset")
+MODEL_CANDIDATES = ("end_range_structures", "limb_mass_error", "torque_offset")
 
 #: the analysis of a set of accepted trials, per trial kind
 SET_ANALYSES: dict[str, Callable[[Any, SessionStore, list[TrialRecord], dict[str, float]], str]] = {

@@ -348,7 +348,7 @@ def cmd_record(args: argparse.Namespace) -> int:
     try:
         store.subject(args.subject)
     except KeyError:
-        store.add_subject(Subject(args.subject, "unknown", 1.78, 75.0, shank_length_m=0.42, foot_length_m=0.26))
+        store.add_subject(Subject(args.subject, "unknown", 1.78, 75.0, shank_length_m=0.40, foot_length_m=0.26))
     session = store.new_session(args.subject, args.operator, notes="simulated")
     print(f"recording {proto.name} {proto.condition()} (about {proto.expected_duration_s():.0f} s) ...")
     with simulated_devices(proto, lab_config_for(proto, seed=args.seed)) as (lab, devices):

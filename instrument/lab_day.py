@@ -16,7 +16,7 @@ from .session import TrialOutcome, record_trial
 from .simulate import lab_config_for, simulated_devices, simulation_metadata
 from .store import SessionStore, Subject
 
-SUBJECT = Subject("SIM01", "male", 1.78, 75.0, 0.92, 0.43, 0.42, 0.28, 0.26, 0.52, 0.37)
+SUBJECT = Subject("SIM01", "male", 1.78, 75.0, 0.92, 0.43, 0.40, 0.28, 0.26, 0.52, 0.37)
 
 
 def plan(quick: bool) -> list[tuple[str, TrialProtocol]]:

@@ -12,6 +12,8 @@ import numpy as np
 from analysis.motion import MotionTrial, cop_from_moment
 from drivers import StreamingDevice, open_dynamometer, open_force_plate, open_marker_stream, open_torque_sensor
 from drivers.simulation.aads_jig import AadsJig, AfoProperties, OperatorStyle
+from drivers.simulation.demo_subject import passive_table
+from drivers.simulation.demo_subject import shank_length_m as demo_shank_length_m
 from drivers.simulation.faults import FaultConfig
 from drivers.simulation.lab import LabConfig, SimulatedLab
 from drivers.simulation.replica_leg import ReplicaLeg
@@ -31,8 +33,13 @@ def _seated_leg(protocol: Any, subject: dict[str, Any], afo: AfoProperties | Non
     fixed: dict[str, Any] = {"hip_flexion_deg": protocol.hip_flexion_deg}
     fixed.update({"ankle_dorsiflexion_deg": protocol.ankle_dorsiflexion_deg} if protocol.joint == "knee"
                  else {"knee_flexion_deg": protocol.knee_flexion_deg})
+    # the subject's passive moments are OpenSim's (a model the estimator was not built from) where it has
+    # a table for this condition, Riener & Edrich's elsewhere
+    table = passive_table(protocol.joint, protocol.hip_flexion_deg if protocol.joint == "knee"
+                          else protocol.knee_flexion_deg)
+    passive = {"passive_table_deg": table[0], "passive_table_nm": table[1]} if table else {}
     return {"leg": SeatedLeg(joint=protocol.joint, **fixed, **subject, arm_mass_kg=protocol.arm_mass_kg,
-                             arm_com_m=protocol.arm_com_m), "dyno_start_position_deg": protocol.start_deg}
+                             arm_com_m=protocol.arm_com_m, **passive), "dyno_start_position_deg": protocol.start_deg}
 
 
 def _replica_rig(protocol: Any, subject: dict[str, float], afo: AfoProperties | None) -> dict[str, Any]:
@@ -74,9 +81,11 @@ SIMULATED_OPERATOR: dict[str, Callable[[Any, SimulatedLab], None]] = {"aads": _a
 
 
 def lab_config_for(protocol: TrialProtocol, *, seed: int = 0, faults: FaultConfig | None = None,
-                   body_mass_kg: float = 75.0, shank_length_m: float = 0.42, foot_length_m: float = 0.26,
+                   body_mass_kg: float = 75.0, shank_length_m: float | None = None, foot_length_m: float = 0.26,
                    afo: AfoProperties | None = None) -> LabConfig:
-    """The simulated rig and subject for ``protocol``."""
+    """The simulated rig and subject for ``protocol``; the shank (m) is by default the simulated subject's own
+    (the OpenSim model's whose paths made its passive moments)."""
+    shank_length_m = demo_shank_length_m() if shank_length_m is None else shank_length_m
     f = faults or FaultConfig()
     cfg: dict[str, Any] = {"seed": seed, "plate_faults": f, "dyno_faults": f, "torque_faults": f}
     subject = {"body_mass_kg": body_mass_kg, "shank_length_m": shank_length_m, "foot_length_m": foot_length_m}

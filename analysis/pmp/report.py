@@ -139,7 +139,17 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
             res = estimate(trials, subject, leg=leg, intervals=intervals, extension=extension,
                            initial=plain_res.parameters)
             idf = identifiability(res, trials, subject, leg=leg, extension=extension)
+            values = [float(res.extension_parameters[n]) for n in extension.parameters]
+            contribution = []
+            for t in trials:  # the extension's own moment over each trial (N·m toward positive angle), plotted
+                every = max(t.angle_rad.size // 200, 1)
+                q, v = t.angle_rad[::every], t.velocity_rad_s[::every]
+                moment = np.array([float(extension.moment(t, float(a), float(w), values,
+                                                          float(subject.gravity_moment_nm(t.joint, a, t.fixed_rad))))
+                                   for a, w in zip(q, v)])
+                contribution.append((np.rad2deg(q).tolist(), moment.tolist()))
             extended = {"extension": extension.name, "description": extension.description,
+                        "contribution_nm": contribution,
                         "parameters": dict(res.extension_parameters),
                         "plain_misfit_ratio": plain_idf["misfit_ratio"], "misfit_ratio": idf["misfit_ratio"],
                         "plain_residual_rms_Nm": plain_idf["residual_rms_nm"], "residual_rms_Nm": idf["residual_rms_nm"],
@@ -285,6 +295,12 @@ def write_plots(report: dict[str, Any], out_dir: str | Path) -> list[Path]:
         a.set_xlabel("angle (°)")
         a.set_ylabel("torque (N·m)")
         a.legend(fontsize=7)
+        share = (report.get("extended") or {}).get("contribution_nm")
+        if share:  # what the named extension adds to this trial's model torque (u = −M: its share of u)
+            angle_deg, moment = share[i]
+            a.plot(angle_deg, -np.asarray(moment), color="C3", lw=1, ls="--",
+                   label=f"{report['extended']['extension']} (its share)")
+        b.plot(tr["time_s"], np.rad2deg(tr["measured_angle_rad"]), ".", ms=2, color="0.5", label="measured")
         b.plot(fd.time_s, np.rad2deg(fd.simulated_angle_rad), color="C1", label="forward dynamics")
         b.set_xlabel("time (s)")
         b.set_ylabel("angle (°)")
