@@ -32,9 +32,9 @@ HAMSTRINGS = ("bflh", "semimem", "semiten")
 RECFEM_SLACK_FACTOR = 1.07
 HAMSTRING_SLACK_FACTOR = 1.08
 LIMIT_FORCES = {"knee": {"upper_deg": 80.0, "upper_stiffness_Nm_per_deg": 0.6, "lower_deg": 8.0,
-                         "lower_stiffness_Nm_per_deg": 0.8, "transition_deg": 2.0},
+                         "lower_stiffness_Nm_per_deg": 0.8, "transition_deg": 5.0},
                 "ankle": {"upper_deg": 10.0, "upper_stiffness_Nm_per_deg": 0.5, "lower_deg": -25.0,
-                          "lower_stiffness_Nm_per_deg": 0.4, "transition_deg": 2.0}}
+                          "lower_stiffness_Nm_per_deg": 0.4, "transition_deg": 5.0}}
 STEP_DEG = 0.5
 CONDITIONS = [("knee", "hip", h, (-5.0, 100.0)) for h in (90.0, 55.0, 15.0)] + \
              [("ankle", "knee", k, (-35.0, 20.0)) for k in (0.0, 45.0, 90.0)]

@@ -225,7 +225,9 @@ class ModelDiagnosis:
         return next((c for c in self.candidates if c.name == self.cause), None)
 
     def text(self) -> str:
-        lines = [f"model-level diagnosis (held-out across {len(self.folds)} conditions): {self.message}",
+        across = (f"{len(self.folds)} folds of interleaved time blocks" if self.folds and
+                  all(f.startswith("blocks") for f in self.folds) else f"{len(self.folds)} left-out repeats or conditions")
+        lines = [f"model-level diagnosis (held-out across {across}): {self.message}",
                  f"  {'extension':<20}{'held-out RMSE':>15}{'ratio':>8}  parameters (95 % jackknife interval)"]
         lines.append(f"  {'none':<20}{self.plain_heldout_rmse_nm:>13.3f} N·m{1.0:>8.2f}")
         for c in sorted(self.candidates, key=lambda c: c.heldout_ratio):

@@ -71,8 +71,10 @@ def test_instrument_analyze_pmp_on_trial_csvs(tmp_path, capsys) -> None:
                             "velocity_deg_s": np.rad2deg(t.velocity_rad_s)},
                            {"kind": "knee", "hip_flexion_deg": float(np.rad2deg(t.fixed_rad["hip"])),
                             "ankle_dorsiflexion_deg": 0.0,
-                            # the generic model's own shank: no scaling, as the generator
-                            "subject": {"mass_kg": 75.0, "shank_length_m": 0.3965, "foot_length_m": 0.26}})
+                            # the generic model's own shank: no scaling, as the generator; measured exactly (the
+                            # record's uncertainties, read from the sidecar, are the generator's: none)
+                            "subject": {"mass_kg": 75.0, "shank_length_m": 0.3965, "foot_length_m": 0.26,
+                                        "shank_length_sd_m": 1e-9, "set_angle_sd_deg": 1e-9, "mass_sd_kg": 1e-9}})
         files.append(tmp_path / f"{t.name}.csv")
         write_trial_csv(files[-1], table)
     assert main(["analyze", "pmp", *map(str, files), "--intervals", "16", "--out", str(tmp_path / "r"), "--json"]) == 0

@@ -29,8 +29,8 @@ def test_a_knee_set_at_three_hip_angles_gets_the_model_level_diagnosis(tmp_path:
     subject = SUBJECT.as_dict()
     store.close()
     text = analyse_set(KneeProtocol(hip_flexion_deg=15.0), tmp_path / "store", ids[2], subject)
-    # the three hip conditions: each candidate extension is judged by predicting a left-out one
-    assert "model-level diagnosis (held-out across 3 conditions)" in text
+    # without repeats each candidate extension is judged by predicting held-out time blocks of every trial
+    assert "model-level diagnosis (held-out across 4 folds of interleaved time blocks)" in text
     assert "diagnosis:" in text  # the trial-level diagnosis of the last trial follows
 
 
