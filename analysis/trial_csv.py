@@ -124,14 +124,14 @@ def read_trial_csv(path: str | Path) -> TrialTable:
         first = int(np.flatnonzero(~timed)[0])
         raise DataFileError(path, f"{missing_time} of {data.shape[0]} rows have no finite time_s (first: row "
                                   f"{first + 2}); at most {MAX_ROWS_WITHOUT_TIME_FRACTION:.0%} may be left out")
-    rows = np.flatnonzero(timed) + 2  # file line numbers of the kept rows (the header is line 1)
+    line_of = np.flatnonzero(timed) + 2  # file line numbers of the kept rows (the header is line 1)
     if missing_time:
         data, time = data[timed], time[timed]
     steps = np.diff(time)
     if (steps <= 0).any():
         k = int(np.flatnonzero(steps <= 0)[0])
-        raise DataFileError(path, f"time_s must increase: row {rows[k + 1]} ({time[k + 1]:g} s) does not follow row "
-                                  f"{rows[k]} ({time[k]:g} s) (duplicated or out-of-order time)")
+        raise DataFileError(path, f"time_s must increase: row {line_of[k + 1]} ({time[k + 1]:g} s) does not follow row "
+                                  f"{line_of[k]} ({time[k]:g} s) (duplicated or out-of-order time)")
     sidecar: dict[str, Any] = {}
     sp = sidecar_path(path)
     if sp.exists():

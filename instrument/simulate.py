@@ -37,9 +37,11 @@ def _seated_leg(protocol: Any, subject: dict[str, Any], afo: AfoProperties | Non
     # a table for this condition, Riener & Edrich's elsewhere
     table = passive_table(protocol.joint, protocol.hip_flexion_deg if protocol.joint == "knee"
                           else protocol.knee_flexion_deg)
-    passive = {"passive_table_deg": table[0], "passive_table_nm": table[1]} if table else {}
-    return {"leg": SeatedLeg(joint=protocol.joint, **fixed, **subject, arm_mass_kg=protocol.arm_mass_kg,
-                             arm_com_m=protocol.arm_com_m, **passive), "dyno_start_position_deg": protocol.start_deg}
+    leg = SeatedLeg(joint=protocol.joint, **fixed, **subject, arm_mass_kg=protocol.arm_mass_kg,
+                    arm_com_m=protocol.arm_com_m)
+    if table is not None:
+        leg = replace(leg, passive_table_deg=table[0], passive_table_nm=table[1])
+    return {"leg": leg, "dyno_start_position_deg": protocol.start_deg}
 
 
 def _replica_rig(protocol: Any, subject: dict[str, float], afo: AfoProperties | None) -> dict[str, Any]:
