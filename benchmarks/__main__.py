@@ -14,7 +14,7 @@ BENCHMARKS = {"drivers": "benchmarks.drivers", "pmp_opensim": "benchmarks.pmp_op
               "cohort": "benchmarks.cohort", "diagnosis_wide": "benchmarks.diagnosis_wide",
               "pmp_model_diagnosis": "benchmarks.pmp_model_diagnosis",
               "afo_model_diagnosis": "benchmarks.afo_model_diagnosis",
-              "diagnosis_stops": "benchmarks.diagnosis_stops", "diagnosis_input": "benchmarks.diagnosis_input",
+              "diagnosis_stops": "benchmarks.diagnosis_stops", "diagnosis_input": "benchmarks.diagnosis_input", "diagnosis_family_b": "benchmarks.diagnosis_family_b",
               "pmp_realistic": "benchmarks.pmp_realistic"}
 
 
