@@ -241,37 +241,59 @@ def to_json(report: dict[str, Any]) -> dict[str, Any]:
 
 def _parameter_figure(report: dict[str, Any]) -> Any:
     """Figures 3.15–3.17 side by side: slack length per shank length, tendon stiffness (kN/m) and
-    muscle stiffness (N/m), the fit against the generic model; grey bars are not determined."""
+    muscle stiffness (N/m). The generic model's value (orange outline) beside the fit: a determined
+    parameter blue with its 95 % interval, an undetermined one a grey, hatched bar (the fit's value, not a
+    measurement). Each panel on a log scale when its values span more than a decade."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
+    from matplotlib.patches import Patch
 
     res: PmpResult = report["result"]
-    det = set(report["identifiability"]["determined"])
+    idf = report["identifiability"]
+    det = set(idf["determined"])
     leg: LegMuscles = report.get("leg") or LegMuscles()
     shank = float(report.get("shank_length_m") or 0.42)
-    fig = Figure(figsize=(14, 4.2), layout="constrained")
+    fig = Figure(figsize=(14, 4.4), layout="constrained")
     FigureCanvasAgg(fig)
     axes = fig.subplots(1, 3)
-
-    def bars(ax: Any, labels: list[str], fitted: list[float], generic: list[float], ok: list[bool], unit: str,
-             title: str) -> None:
-        x = np.arange(len(labels))
-        ax.bar(x - 0.2, generic, 0.4, color="0.85", edgecolor="0.5", label="generic (Rajagopal 2016)")
-        ax.bar(x + 0.2, fitted, 0.4, color=["C0" if o else "0.65" for o in ok], label="fitted (grey: not determined)")
-        ax.set_xticks(x, labels, rotation=60, fontsize=8)
-        ax.set_ylabel(unit)
-        ax.set_title(title, fontsize=10)
-        ax.legend(fontsize=7)
-
     fitted = representative_values(leg, res.parameters, shank)
     generic = representative_values(leg, res.generic, shank)
+    # each determined parameter's interval carried to its figure quantity (both ends evaluated)
+    bounds: dict[str, dict[str, tuple[float, float]]] = {k: {} for k in FIGURE_QUANTITIES}
+    for name, (lo, hi) in idf.get("ci95", {}).items():
+        ends = [representative_values(leg, {**res.parameters, name: v}, shank) for v in (lo, hi)]
+        muscle = name.split(".")[0]
+        for key, what in FIGURE_QUANTITIES.items():
+            if name.endswith(what) and muscle in ends[0][key]:
+                a, b = ends[0][key][muscle], ends[1][key][muscle]
+                bounds[key][muscle] = (min(a, b), max(a, b))
     for ax, (key, unit, title) in zip(axes, (("slack_per_shank", "slack length / shank length",
                                               "tendon slack length (Fig. 3.15)"),
                                              ("tendon_kN_per_m", "kN/m", "tendon stiffness (Fig. 3.16)"),
                                              ("muscle_N_per_m", "N/m", "muscle stiffness (Fig. 3.17)"))):
         muscles = list(fitted[key])
-        bars(ax, muscles, [fitted[key][m] for m in muscles], [generic[key][m] for m in muscles],
-             [f"{m}.{FIGURE_QUANTITIES[key]}" in det for m in muscles], unit, title)
+        x = np.arange(len(muscles))
+        ok = [f"{m}.{FIGURE_QUANTITIES[key]}" in det for m in muscles]
+        values = [fitted[key][m] for m in muscles]
+        ax.bar(x - 0.2, [generic[key][m] for m in muscles], 0.4, facecolor="none", edgecolor="C1", lw=1.5)
+        ax.bar(x + 0.2, values, 0.4, color=["C0" if o else "0.8" for o in ok],
+               hatch=None, edgecolor=["C0" if o else "0.5" for o in ok])
+        for i, (m, o) in enumerate(zip(muscles, ok)):
+            if not o:
+                ax.patches[len(muscles) + i].set_hatch("//")
+            elif m in bounds[key]:
+                lo, hi = bounds[key][m]
+                ax.errorbar(x[i] + 0.2, values[i], yerr=[[values[i] - lo], [hi - values[i]]], color="k", capsize=3)
+        spread = [v for v in values + [generic[key][m] for m in muscles] if v > 0]
+        if spread and max(spread) / min(spread) > 10:
+            ax.set_yscale("log")
+        ax.set_xticks(x, muscles, rotation=60, fontsize=8)
+        ax.set_ylabel(unit)
+        ax.set_title(title, fontsize=10)
+        ax.legend(handles=[Patch(facecolor="none", edgecolor="C1", label="generic (Rajagopal 2016)"),
+                           Patch(color="C0", label="determined, with its 95 % interval"),
+                           Patch(facecolor="0.8", edgecolor="0.5", hatch="//", label="not determined (the fit's value)")],
+                  fontsize=7)
     return fig
 
 
