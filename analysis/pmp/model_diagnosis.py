@@ -57,6 +57,9 @@ PROTOCOL_TO_SEPARATE = {
     "torque_offset": "an offset needs a return sweep or a hold at a slack mid-range angle",
     "limb_mass_error": "a weight error needs the limb weighed on the dynamometer (a gravity-correction trial)",
     "axis_misalignment": "a misalignment needs the axes aligned by markers or a second attachment point",
+    "end_range_structures": "end-range structures are told from the muscles by a sweep further into the range's end "
+                            "and a second set angle of the other joint (a two-joint muscle changes with it, a capsule "
+                            "does not)",
 }
 
 

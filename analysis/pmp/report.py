@@ -219,9 +219,10 @@ def text(report: dict[str, Any], *, timings: bool = True) -> str:
                      "extended model's, its intervals with the extension's parameters fitted jointly)")
         traded = sorted(set(ext["plain_determined"]) - set(ext["determined"]))
         if traded:
+            from .model_diagnosis import PROTOCOL_TO_SEPARATE
+
             lines.append("  trade with the extension (determined by the plain model, not beside it): " + ", ".join(traded)
-                         + "; a return sweep and a second speed do not separate a joint-level structure from a muscle"
-                         " crossing one joint; a second fixed angle of the other joint separates the two-joint ones")
+                         + "; to separate them record " + PROTOCOL_TO_SEPARATE.get(ext["extension"], "another protocol"))
     return "\n".join(lines)
 
 
