@@ -222,7 +222,7 @@ def text(report: dict[str, Any], *, timings: bool = True) -> str:
             from .model_diagnosis import PROTOCOL_TO_SEPARATE
 
             lines.append("  trade with the extension (determined by the plain model, not beside it): " + ", ".join(traded)
-                         + "; to separate them record " + PROTOCOL_TO_SEPARATE.get(ext["extension"], "another protocol"))
+                         + "; " + PROTOCOL_TO_SEPARATE.get(ext["extension"], "another protocol to separate them"))
     return "\n".join(lines)
 
 
