@@ -39,7 +39,7 @@ from .estimator import PmpTrial, Subject, _autocorrelation_time, _smoothed, esti
 from .muscles import LegMuscles, scale_for_subject
 
 #: bumped when a change to the fit or the resampling changes results (invalidates stored results)
-METHOD_VERSION = "cohort-2"
+METHOD_VERSION = "cohort-3"
 #: half-width limit of a determined parameter's bootstrap interval (relative): 1.96 × 3.5 %
 DETERMINED_HALF_WIDTH_REL = 1.96 * 0.035
 #: shortest residual block of the sweep bootstrap (s)
@@ -71,6 +71,7 @@ class FitTask:
         h.update(f"{METHOD_VERSION}|{self.subject_code}|{self.replicate}|{self.intervals}|".encode())
         s = self.subject
         h.update(f"{s.mass_kg!r}|{s.shank_length_m!r}|{s.foot_length_m!r}|{s.arm_inertia_kgm2!r}|".encode())
+        h.update(f"{s.shank_length_sd_m!r}|{s.set_angle_sd_rad!r}|{s.mass_sd_kg!r}|".encode())  # in the intervals
         for t in self.trials:
             h.update(f"{t.joint}|{sorted(t.fixed_rad.items())!r}|".encode())
             for a in (t.time_s, t.angle_rad, t.velocity_rad_s, t.torque_nm):
