@@ -531,6 +531,7 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     step_scale, step_angle, step_mass = 1e-4, 1e-4, 1e-2
     scaled_leg = leg.rescaled(1.0 + step_scale)
     rows, residual_parts, noise_parts = [], [], []
+    undefined = 0
     for t in trials:
         model_u = model_u_of(t, leg, t.fixed_rad, subject.mass_kg)
         angle = _smoothed(t.angle_rad)[::stride]  # angle noise must not pass for torque misfit on steep curves
@@ -552,7 +553,13 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
         cols[:, 1 + conditions.index(key)] = (np.asarray(out[3]).ravel() - u_pred) / step_angle
         cols[:, -1] = (np.asarray(out[4]).ravel() - u_pred) / step_mass
         rows[-1] = np.hstack([rows[-1], cols])
-        residual_parts.append(u_pred - t.torque_nm[::stride])
+        residual = u_pred - t.torque_nm[::stride]
+        # where the fitted model has no value (the calf tendons without an equilibrium, an overflow) the sample
+        # is left out and counted; any such sample makes nothing determined (below)
+        defined = np.isfinite(residual) & np.isfinite(rows[-1]).all(axis=1)
+        undefined += int((~defined).sum())
+        rows[-1] = rows[-1][defined]
+        residual_parts.append(residual[defined])
         # white noise from second differences (the smooth moment curve hardly has any): var(Δ²e) = 6σ²
         noise_parts.append(np.diff(t.torque_nm, 2) / np.sqrt(6.0))
     j_all = np.vstack(rows)
@@ -569,6 +576,11 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
         # orthogonal to the extension's
         j = j - j_ext @ (np.linalg.pinv(j_ext.T @ j_ext, rcond=1e-10) @ (j_ext.T @ j))
     info = j.T @ j / scale_c
+    if n_samples == 0 or not np.all(np.isfinite(info)):
+        info = np.zeros_like(info)  # nothing is constrained: every parameter undetermined (reasons say why)
+        reasons_empty = True  # said in the reasons below
+    else:
+        reasons_empty = False
     w, vecs = np.linalg.eigh(info)
     keep = w > 1.0 / rel_se_limit**2
     cov = (vecs[:, keep] / w[keep]) @ vecs[:, keep].T
@@ -595,8 +607,13 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     # them even when the noise is small (a 0.05 N·m sensor shows a 0.14 N·m model error as 3×)
     systematic = math.sqrt(max(residual_rms**2 - noise**2, 0.0))
     reasons = []
+    if reasons_empty:
+        reasons.append("the fit's information is not finite: nothing can be determined from it")
     if not result.success:
         reasons.append(f"the fit did not converge ({result.message})")
+    if undefined:
+        reasons.append(f"the fitted model has no value at {undefined} of {n_samples + undefined} samples (the calf "
+                       "tendons without an equilibrium there, or an overflow): its parameters are not trusted")
     if misfit_ratio > misfit_limit and systematic > model_error_nm:
         reasons.append(f"the model does not fit the data well enough to determine anything: residual RMS "
                        f"{residual_rms:.3g} N·m is {misfit_ratio:.1f}× the measurement noise ({noise:.3g} N·m; "
