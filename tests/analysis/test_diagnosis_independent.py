@@ -42,7 +42,7 @@ def test_single_effects_at_three_to_five_times_the_noise_are_named_and_sized() -
             errors += list(magnitude_errors(d, g).values())
         else:
             wrong.append((kind, cause, seed, nuisances, sorted(named_causes(d))))
-    assert right >= 17, wrong  # ≥ 94 % of 18 (the benchmark: see the README)
+    assert right >= 17, wrong  # ≥ 94 % of 18 (the benchmark: see docs/validation.md)
     assert np.mean(np.array(errors) <= 0.15) >= 0.85, errors
 
 
