@@ -61,9 +61,8 @@ def fit_subject(seed: int, generic: dict[str, dict[str, float]], variant: str = 
     return truth, made, res, idf, time.perf_counter() - t0
 
 
-def one_subject(seed: int, generic: dict[str, dict[str, float]], variant: str = "base",
-                intervals: int = 30) -> dict[str, Any]:
-    truth, made, res, idf, wall = fit_subject(seed, generic, variant, intervals)
+def determined_against_truth(res: Any, idf: dict[str, Any], truth: dict[str, dict[str, float]]) -> list[dict[str, Any]]:
+    """Each determined parameter against the truth: estimate, error (%), its 95 % interval and whether it holds it."""
     rows = []
     for name in idf["determined"]:
         muscle, what = name.split(".")
@@ -72,6 +71,13 @@ def one_subject(seed: int, generic: dict[str, dict[str, float]], variant: str = 
         rows.append({"parameter": name, "truth": true, "estimate": res.parameters[name],
                      "error_pct": 100 * (res.parameters[name] - true) / true, "covered": bool(lo <= true <= hi),
                      "ci95": [lo, hi]})
+    return rows
+
+
+def one_subject(seed: int, generic: dict[str, dict[str, float]], variant: str = "base",
+                intervals: int = 30) -> dict[str, Any]:
+    truth, made, res, idf, wall = fit_subject(seed, generic, variant, intervals)
+    rows = determined_against_truth(res, idf, truth)
     undetermined_err = [abs(100 * (res.parameters[n] - truth[n.split(".")[0]][n.split(".")[1]])
                             / truth[n.split(".")[0]][n.split(".")[1]]) for n in idf["undetermined"]]
     return {"seed": seed, "variant": variant, "success": res.success, "status": res.status,

@@ -68,7 +68,7 @@ def one_subject(seed: int, variant: str, quick: bool = False) -> dict[str, Any]:
     from analysis.pmp.report import analyse
 
     from .opensim_truth import draw_truth, generic_parameters, make_trials
-    from .pmp_opensim import SHANK_M
+    from .pmp_opensim import SHANK_M, determined_against_truth
 
     rng = np.random.default_rng(seed)
     hidden = [] if variant == "matched" else [variant]
@@ -91,14 +91,7 @@ def one_subject(seed: int, variant: str, quick: bool = False) -> dict[str, Any]:
                      model_intervals=12)
     seconds = time.perf_counter() - t0
     res, idf, md = report["result"], report["identifiability"], report["model_diagnosis"]
-    rows = []
-    for name in idf["determined"]:
-        muscle, what = name.split(".")
-        true = truth[muscle][what]
-        lo, hi = idf["ci95"][name]
-        rows.append({"parameter": name, "truth": true, "estimate": res.parameters[name],
-                     "error_pct": 100.0 * (res.parameters[name] / true - 1.0), "covered": bool(lo <= true <= hi),
-                     "ci95": [lo, hi]})
+    rows = determined_against_truth(res, idf, truth)
     expected = {EXPECTED[h] for h in hidden} - {None}
     ext = report.get("extended") or {}
     return {"seed": seed, "variant": variant, "hidden": hidden, "details": details, "named": md.cause,

@@ -637,7 +637,9 @@ MIN_STOP_PEAK_TO_NOISE = 2.0
 MAX_RATE_HZ = 200.0  # the diagnosis works on block means at this rate at most (passive effects are < 10 Hz)
 #: ... and on at most this many samples: a long recording is averaged over longer blocks (never below
 #: MIN_RATE_HZ, where the shortest burst, 0.15 s, still spans 7 samples). A 5-min trial at 1 kHz (300,000
-#: rows) is then diagnosed on 15,000 block means at 50 Hz: 8.3 s and 614 MB → see `benchmarks/diagnosis_input`.
+#: rows) is then diagnosed on about 15,000 block means at 50 Hz: a damaged 295,700-row knee trial took 2.2 s and
+#: 225 MB as a whole `instrument diagnose` process (8.9 s and 614 MB on 60,000 block means at 200 Hz before;
+#: `python -m benchmarks diagnosis_input`).
 #: The answer depends on it through the noise only: a block mean of q samples has 1/√q the white noise
 #: and there are q times fewer, so the criterion's evidence (n_eff · ln MSE ratio) is unchanged to first order
 MAX_SAMPLES = 15_000

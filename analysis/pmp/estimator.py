@@ -576,11 +576,9 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
         # orthogonal to the extension's
         j = j - j_ext @ (np.linalg.pinv(j_ext.T @ j_ext, rcond=1e-10) @ (j_ext.T @ j))
     info = j.T @ j / scale_c
-    if n_samples == 0 or not np.all(np.isfinite(info)):
-        info = np.zeros_like(info)  # nothing is constrained: every parameter undetermined (reasons say why)
-        reasons_empty = True  # said in the reasons below
-    else:
-        reasons_empty = False
+    info_finite = n_samples > 0 and bool(np.all(np.isfinite(info)))
+    if not info_finite:
+        info = np.zeros_like(info)  # nothing is constrained: every parameter undetermined (the reasons say why)
     w, vecs = np.linalg.eigh(info)
     keep = w > 1.0 / rel_se_limit**2
     cov = (vecs[:, keep] / w[keep]) @ vecs[:, keep].T
@@ -607,7 +605,7 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     # them even when the noise is small (a 0.05 N·m sensor shows a 0.14 N·m model error as 3×)
     systematic = math.sqrt(max(residual_rms**2 - noise**2, 0.0))
     reasons = []
-    if reasons_empty:
+    if not info_finite:
         reasons.append("the fit's information is not finite: nothing can be determined from it")
     if not result.success:
         reasons.append(f"the fit did not converge ({result.message})")
