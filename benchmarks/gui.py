@@ -79,7 +79,7 @@ def _stream_and_measure(seconds: float) -> dict[str, Any]:
 
 def _estop_latency(repeats: int) -> list[float]:
     from drivers.dynamometer.protocol import State
-    from instrument.protocols import KneeProtocol
+    from instrument.kinds.knee import KneeProtocol
     from instrument.runner import TrialRunner
     from instrument.sources import SimulatedSource
     from instrument.store import SessionStore, Subject

@@ -27,7 +27,7 @@ from typing import Any, Callable
 import numpy as np
 
 from drivers.dynamometer.protocol import WATCHDOG_TIMEOUT_S
-from instrument.protocols import KneeProtocol
+from instrument.kinds.knee import KneeProtocol
 from instrument.recording import read_trial
 from instrument.runner import SafetyLimits, TrialRunner
 from instrument.sources import SimulatedSource

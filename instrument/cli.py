@@ -9,14 +9,13 @@ import math
 import sys
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
-from drivers.dynamometer import DEFAULT_LIMITS
 from drivers.errors import DriverError, LimitViolationError
 
+from . import kinds
 from .errors import InstrumentError, ProtocolError
-
-#: the fastest sweep the command line may ask for: the driver's default envelope
-_MAX_SPEED_DEG_S = math.degrees(DEFAULT_LIMITS.max_speed_rad_s)
+from .kinds.base import Parameter
 
 
 def _bounded(low: float, high: float, unit: str) -> Callable[[str], float]:
@@ -32,6 +31,21 @@ def _bounded(low: float, high: float, unit: str) -> Callable[[str], float]:
     return parse
 
 
+def _option_of(p: Parameter) -> dict[str, Any]:
+    """argparse's keywords for a trial kind's parameter (its default is the kind's: None here means "not given")."""
+    used_by = ", ".join(k.name for k in kinds.KINDS if p in k.parameters)
+    help_text = f"{p.help} [{used_by}; default {p.text_of(p.default)}]"
+    if p.value_type is bool:
+        return {"action": argparse.BooleanOptionalAction, "help": help_text}
+    if p.choices:
+        return {"type": p.value_type, "choices": p.choices, "help": help_text}
+    if p.low is not None and p.high is not None:
+        parse = _bounded(p.low, p.high, p.unit)
+        return {"type": (lambda text: int(parse(text))) if p.value_type is int else parse,
+                "help": f"{help_text} ({p.low:g}–{p.high:g} {p.unit})".replace(" )", ")")}
+    return {"type": p.value_type, "help": help_text}
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="instrument", description="AFO stiffness and passive muscle-tendon lab instrument")
     parser.add_argument("-v", "--verbose", action="store_true", help="log driver events")
@@ -45,19 +59,13 @@ def build_parser() -> argparse.ArgumentParser:
 
     rec = sub.add_parser("record", help="record one trial into a session store")
     rec.add_argument("--simulate", action="store_true", help="use the simulated lab (required without hardware config)")
-    rec.add_argument("--protocol", choices=("aads", "knee", "ankle", "replica"), required=True)
+    rec.add_argument("--protocol", choices=kinds.names(aliases=True), required=True,
+                     help="; ".join(f"{k.name}: {k.summary}" for k in kinds.KINDS))
     rec.add_argument("--store", type=Path, default=None, help="store folder (default: the user's data folder)")
     rec.add_argument("--subject", default="SIM01", help="pseudonymous subject code")
     rec.add_argument("--operator", default="operator-1")
-    rec.add_argument("--trial", type=int, default=1, help="trial number")
-    rec.add_argument("--spring", type=int, default=2, choices=(1, 2, 3), help="AADS spring (9910, 15600, 25200 N/m)")
-    rec.add_argument("--aads-operator", type=int, default=1, choices=(1, 2, 3, 4), help="AADS operator style")
-    rec.add_argument("--seconds", type=_bounded(1.0, 120.0, "s"), default=6.0, help="AADS bending time (s, 1–120)")
-    rec.add_argument("--hip", type=float, default=90.0, choices=(90.0, 55.0, 15.0), help="knee trials: hip flexion (deg)")
-    rec.add_argument("--knee", type=float, default=0.0, choices=(0.0, 45.0, 90.0), help="ankle trials: knee flexion (deg)")
-    rec.add_argument("--speed", type=_bounded(0.5, _MAX_SPEED_DEG_S, "°/s"), default=5.0,
-                     help=f"isokinetic speed (deg/s, 0.5–{_MAX_SPEED_DEG_S:g})")
-    rec.add_argument("--hold", type=_bounded(0.2, 30.0, "s"), default=2.0, help="replica leg: hold time per angle (s, 0.2–30)")
+    for p in kinds.all_parameters():  # every kind's parameters, generated (a shared one is one option)
+        rec.add_argument(p.option, dest=p.dest, default=None, **_option_of(p))
     rec.add_argument("--seed", type=int, default=0)
 
     ses = sub.add_parser("sessions", help="list subjects, sessions and trials of a store")
@@ -79,8 +87,9 @@ def build_parser() -> argparse.ArgumentParser:
         gui.add_argument(f"--{dev.replace('_', '-')}", dest=dev, default=None, metavar="URL", help=f"{dev} URL (hardware)")
     gui.add_argument("--close-after", type=float, default=None, help=argparse.SUPPRESS)
     ana = sub.add_parser("analyze", help="analyse recorded trials")
-    kinds = ana.add_subparsers(dest="kind", required=True)
-    afo = kinds.add_parser("afo", help="AFO stiffness by the AADS test (static optimisation, theory, ANOVA)")
+    analyses = ana.add_subparsers(dest="analysis", required=True)
+    afo = analyses.add_parser("afo", help="AFO stiffness by the AADS test (static optimisation, theory, ANOVA)")
+    afo.set_defaults(run=cmd_analyze_afo)
     afo.add_argument("trials", nargs="+", help="store trial ids, .h5 trial files or .c3d files")
     afo.add_argument("--model", type=Path, default=None, help="jig/AFO model (.toml or .json); default: the dissertation's jig")
     afo.add_argument("--store", type=Path, default=None, help="store folder for trial ids")
@@ -98,12 +107,13 @@ def build_parser() -> argparse.ArgumentParser:
                      "instrument trial file (.h5); a store id brings the subject's anthropometrics (limb weight "
                      "and inertia)")
     dia.add_argument("--store", type=Path, default=None, help="store folder for a trial id")
-    dia.add_argument("--kind", choices=("afo", "knee", "ankle", "replica"), default=None,
+    dia.add_argument("--kind", choices=kinds.table_kinds(), default=None,
                      help="trial kind (default: the sidecar's or the recording's)")
     dia.add_argument("--json", action="store_true", help="print the JSON result")
     dia.add_argument("--plot", type=Path, default=None, help="write the diagnosis plot (PNG) here")
-    cohort = kinds.add_parser("cohort", help="every subject of a store: passive parameters with bootstrap "
+    cohort = analyses.add_parser("cohort", help="every subject of a store: passive parameters with bootstrap "
                               "intervals, on Dask (results kept in the store)")
+    cohort.set_defaults(run=cmd_analyze_cohort)
     cohort.add_argument("--store", type=Path, required=True)
     cohort.add_argument("--subjects", nargs="+", default=None, help="subject codes (default: every subject)")
     cohort.add_argument("--bootstrap", type=int, default=20, help="bootstrap refits per subject")
@@ -114,7 +124,8 @@ def build_parser() -> argparse.ArgumentParser:
     cohort.add_argument("--seed", type=int, default=0, help="seed of the bootstrap resamples")
     cohort.add_argument("--out", type=Path, default=Path("cohort_report"))
     cohort.add_argument("--json", action="store_true")
-    pmp = kinds.add_parser("pmp", help="passive muscle-tendon parameters from knee and ankle trials (collocation)")
+    pmp = analyses.add_parser("pmp", help="passive muscle-tendon parameters from knee and ankle trials (collocation)")
+    pmp.set_defaults(run=cmd_analyze_pmp)
     pmp.add_argument("trials", nargs="+", help="store trial ids, .h5 trial files or trial CSVs (with sidecars)")
     pmp.add_argument("--subject", type=Path, default=None, help="subject JSON (mass_kg, shank_length_m, foot_length_m); "
                      "default: the first sidecar's subject block")
@@ -127,7 +138,8 @@ def build_parser() -> argparse.ArgumentParser:
                      help="also fit each candidate model extension (damping, friction, limb-mass error, torque offset, "
                           "axis misalignment) inside the estimator and judge it by held-out prediction across trials "
                           "(about 5 fits per trial condition and candidate: minutes)")
-    rep = kinds.add_parser("replica", help="spring stiffness and rest length of the replica leg from its static holds")
+    rep = analyses.add_parser("replica", help="spring stiffness and rest length of the replica leg from its static holds")
+    rep.set_defaults(run=cmd_analyze_replica)
     rep.add_argument("trials", nargs="+", help="store trial ids, .h5 trial files or replica trial CSVs (with sidecars)")
     rep.add_argument("--model", type=Path, default=None, help="replica-leg drawing (TOML; default: the built-in rig)")
     rep.add_argument("--store", type=Path, default=None)
@@ -184,7 +196,7 @@ def _show(args: argparse.Namespace, payload: dict) -> int:
 def cmd_analyze_replica(args: argparse.Namespace) -> int:
     from analysis.pmp.replica import text, to_json
 
-    from .replica import analyze_replica
+    from .kinds.replica import analyze_replica
 
     def compute() -> dict:
         tables, metas = _tables(args.trials, args.store)
@@ -285,17 +297,16 @@ def cmd_gui(args: argparse.Namespace) -> int:
 
 
 def cmd_analyze(args: argparse.Namespace) -> int:
+    """The analysis the ``analyze`` sub-command names (each sub-parser sets its ``run``)."""
+    return int(args.run(args))
+
+
+def cmd_analyze_afo(args: argparse.Namespace) -> int:
     from analysis.aads.experiment import write_report
     from analysis.aads.model import load_jig_model
 
     from .afo import afo_model_diagnosis, analyze_afo, resolve_trials
 
-    if args.kind == "pmp":
-        return cmd_analyze_pmp(args)
-    if args.kind == "cohort":
-        return cmd_analyze_cohort(args)
-    if args.kind == "replica":
-        return cmd_analyze_replica(args)
     def compute() -> dict:
         model = load_jig_model(args.model)
         store = (_store(args.store, read_only=True) if any(t.isdigit() and not Path(t).exists() for t in args.trials)
@@ -331,7 +342,6 @@ def _store(path: Path | None, read_only: bool = False, reading: bool = False):  
 
 
 def cmd_record(args: argparse.Namespace) -> int:
-    from .protocols import AadsProtocol, AnkleProtocol, KneeProtocol, ReplicaProtocol
     from .session import record_trial
     from .simulate import lab_config_for, simulated_devices, simulation_metadata
     from .store import Subject
@@ -339,11 +349,9 @@ def cmd_record(args: argparse.Namespace) -> int:
     if not args.simulate:
         print("only --simulate is available from the command line; the GUI drives real devices", file=sys.stderr)
         return 2
-    proto = {"aads": lambda: AadsProtocol(spring=args.spring, operator=args.aads_operator, trial=args.trial,
-                                          duration_s=args.seconds),
-             "knee": lambda: KneeProtocol(hip_flexion_deg=args.hip, speed_deg_s=args.speed),
-             "ankle": lambda: AnkleProtocol(knee_flexion_deg=args.knee, speed_deg_s=args.speed),
-             "replica": lambda: ReplicaProtocol(hold_s=args.hold)}[args.protocol]()
+    kind = kinds.get(args.protocol)
+    proto = kind.protocol(**{p.name: getattr(args, p.dest) for p in kind.parameters
+                             if getattr(args, p.dest) is not None})
     store = _store(args.store)
     try:
         store.subject(args.subject)
@@ -352,7 +360,7 @@ def cmd_record(args: argparse.Namespace) -> int:
     session = store.new_session(args.subject, args.operator, notes="simulated")
     print(f"recording {proto.name} {proto.condition()} (about {proto.expected_duration_s():.0f} s) ...")
     with simulated_devices(proto, lab_config_for(proto, seed=args.seed)) as (lab, devices):
-        out = record_trial(store, session, proto, devices, operator=args.operator, trial_number=args.trial,
+        out = record_trial(store, session, proto, devices, operator=args.operator, trial_number=args.trial or 1,
                            extra_metadata=simulation_metadata(lab))
     counts = ", ".join(f"{n}: {r.samples} samples, {r.counts()['lost_samples']} lost" for n, r in out.devices.items())
     print(f"trial {out.trial_id} {out.status}{' (' + out.reason + ')' if out.reason else ''}: {counts}\n  {out.path}")

@@ -28,6 +28,7 @@ from typing import Any, Protocol
 
 from analysis.pmp.cohort import FitTask, bootstrap_trials, coverage, run_fit_task, subject_summary
 
+from . import kinds
 from .errors import InstrumentError
 from .loading import records_as_loaded
 from .store import SessionStore, TrialRecord, file_sha256
@@ -117,7 +118,7 @@ def study_from_store(store: SessionStore, codes: Sequence[str] | None = None,
     out = []
     skipped: list[str] = []
     for code in wanted:
-        records = [t for t in store.trials() if t.subject_code == code and t.protocol in ("knee", "ankle")]
+        records = [t for t in store.trials() if t.subject_code == code and t.protocol in kinds.names_feeding(kinds.PASSIVE_PARAMETERS)]
         usable = [t for t in records if t.status in USABLE_STATUSES and t.repeated_by is None]
         excluded = [f"trial {t.id} ({t.protocol}): {t.status}" + (f", repeated by {t.repeated_by}"
                                                                    if t.repeated_by else "")
@@ -286,7 +287,7 @@ def engine_account(run: CohortRun, subjects: int) -> dict[str, Any]:
 def afo_sets(store: SessionStore) -> dict[str, list[TrialRecord]]:
     """The study's AADS sets: usable AADS trials grouped by the AFO tested (its name in the condition)."""
     sets: dict[str, list[TrialRecord]] = {}
-    for t in store.trials(protocol="aads"):
+    for t in (t for t in store.trials() if t.protocol in kinds.names_feeding(kinds.AFO_STIFFNESS)):
         if t.status in USABLE_STATUSES and t.repeated_by is None and t.condition.get("live_markers", True):
             sets.setdefault(str(t.condition.get("afo") or "unnamed AFO"), []).append(t)
     return sets
@@ -328,7 +329,7 @@ def analyze_cohort(store: SessionStore, out_dir: Path, *, codes: Sequence[str] |
     afo = analyze_afo_sets(store) if not codes else {}
     left_out: list[str] = []
     study = study_from_store(store, codes, left_out) if codes or any(
-        t.protocol in ("knee", "ankle") for t in store.trials()) else []
+        t.protocol in kinds.names_feeding(kinds.PASSIVE_PARAMETERS) for t in store.trials()) else []
     run = run_cohort(study, store, bootstrap=bootstrap, intervals=intervals, seed=seed, scheduler=scheduler,
                      workers=workers, progress=progress, client=client) if study else CohortRun([], 0, 0, 0, [], 0.0, 0.0, 0, "none", {})
     run.afo_sets = afo

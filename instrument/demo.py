@@ -18,6 +18,7 @@ from drivers.simulation.faults import FaultConfig
 from drivers.simulation.lab import LabConfig, SimulatedLab
 from drivers.torque import registers
 
+from . import kinds
 from .stream import StreamResult, stream_devices
 
 
@@ -129,7 +130,7 @@ def lab_day(out: Path, quick: bool) -> tuple[list[dict[str, Any]], bool]:
             continue
         done.add(t.protocol)
         trial = read_trial(t.path)
-        fmt = "c3d" if t.protocol == "aads" else "csv"
+        fmt = kinds.get(t.protocol).export_format
         files = export_trial(trial, fmt, exports / f"trial{t.id}-{t.protocol}.{fmt}", store.subject(t.subject_code).as_dict())
         print(f"  exported trial {t.id} ({t.protocol}) -> {files[0]}")
     def streamed_losses(r: dict[str, Any]) -> dict[str, int]:
@@ -216,7 +217,8 @@ def afo_experiment(out: Path, store_dir: Path | None = None) -> tuple[dict[str, 
         print(f"  PROBLEM: failed trials {experiment.failed}; ANOVA {experiment.anova_error or 'ok'}")
     if store_dir is not None and (store_dir / "store.sqlite").exists():
         store = SessionStore(store_dir, read_only=True)
-        ids = [str(t.id) for t in store.trials() if t.protocol == "aads" and t.status == "recorded"]
+        ids = [str(t.id) for t in store.trials() if t.protocol in kinds.names_feeding(kinds.AFO_STIFFNESS)
+               and t.status == "recorded"]
         recorded = analyze_experiment(resolve_trials(ids, store), model)
         store.close()
         print("  AADS trials of the recorded lab day (through the drivers), same pipeline:")
@@ -270,13 +272,14 @@ def passive_parameters(out: Path) -> tuple[dict[str, Any], bool]:
     from analysis.pmp.report import analyse, subject_from, text, to_json, trial_from_table, write_plots
     from drivers.simulation.demo_subject import demo_subject
 
-    from .analyses import MODEL_CANDIDATES
+    from .kinds.isokinetic import MODEL_CANDIDATES
     from .loading import records_as_loaded
     from .store import SessionStore
 
     store = SessionStore(out / "store", read_only=True)
     tables = [t.table() for t in records_as_loaded(
-        store, [t for t in store.trials() if t.protocol in ("knee", "ankle") and t.status == "recorded"])]
+        store, [t for t in store.trials() if t.protocol in kinds.names_feeding(kinds.PASSIVE_PARAMETERS)
+                      and t.status == "recorded"])]
     store.close()
     print(f"\nPassive muscle-tendon parameters from the {len(tables)} recorded knee and ankle trials (direct "
           "collocation, CasADi). The simulated subject's moments are OpenSim's (Rajagopal 2016's muscles with their own "
@@ -368,12 +371,13 @@ def replica_leg(out: Path) -> tuple[dict[str, Any], bool]:
     from analysis.errors import AnalysisError
     from analysis.pmp.replica import text, to_json
 
+    from .kinds.replica import analyze_replica
     from .loading import records_as_loaded
-    from .replica import analyze_replica
     from .store import SessionStore
 
     store = SessionStore(out / "store", read_only=True)
-    trials = records_as_loaded(store, [t for t in store.trials() if t.protocol == "replica" and t.status == "recorded"])
+    trials = records_as_loaded(store, [t for t in store.trials() if t.protocol in kinds.names_feeding(kinds.REPLICA_SPRINGS)
+                                                  and t.status == "recorded"])
     store.close()
     print(f"\nReplica leg: four springs (BFLH, BFSH, VASINT, RECFEM) from {len(trials)} trial(s) of static holds "
           "every 8°, hip 90° (sensor tared with the shank off) ...")
@@ -400,7 +404,7 @@ def operator_drill(out: Path) -> tuple[dict[str, Any], bool]:
 
     from drivers.dynamometer.protocol import State
 
-    from .protocols import KneeProtocol
+    from .kinds.knee import KneeProtocol
     from .runner import TrialRunner
     from .sources import SimulatedSource
     from .store import SessionStore, Subject
@@ -451,7 +455,7 @@ def operator_drill(out: Path) -> tuple[dict[str, Any], bool]:
     try:
         from PySide6 import QtCore, QtWidgets
 
-        from .gui.window import PROTOCOL_NAMES, MainWindow
+        from .gui.window import MainWindow
 
         def relay(mode: QtCore.QtMsgType, context: QtCore.QMessageLogContext, message: str) -> None:
             if "propagateSizeHints" not in message:  # the offscreen platform's note on every window
@@ -465,17 +469,19 @@ def operator_drill(out: Path) -> tuple[dict[str, Any], bool]:
         window.show()
         shots = out / "gui"
         shots.mkdir(exist_ok=True)
-        for i, name in enumerate(PROTOCOL_NAMES):
+        for i, kind in enumerate(kinds.KINDS):
             window.protocol_box.setCurrentIndex(i)
             app.processEvents()
-            window.grab().save(str(shots / f"{i}-{name.split()[0].lower()}.png"))
+            window.grab().save(str(shots / f"{i}-{kind.name}.png"))
         window.close()
         gstore.close()
         QtCore.QCoreApplication.processEvents()
         QtCore.qInstallMessageHandler(previous)
         rows["gui_screens"] = sorted(p.name for p in shots.glob("*.png"))
         print(f"  GUI screens (offscreen): {', '.join(rows['gui_screens'])} in {shots}")
-    except ImportError as err:  # the GUI is optional for the demo's numbers
+    except ImportError as err:  # the GUI is optional for the demo's numbers (no Qt on this machine)
+        if err.name is None or not err.name.startswith(("PySide6", "shiboken6", "pyqtgraph")):
+            raise  # the product's own import failing is a defect, never "not available"
         print(f"  GUI not available here: {err}")
     return rows, ok
 

@@ -8,6 +8,7 @@
  │    └── ``SubjectCodeError``    a subject code that is not a pseudonym (also a ``ValueError``)
  ├── ``RecordingError``           a trial file could not be written or read
  │    ├── ``DiskFullError``       the disk (or file-size limit) is full; data up to the last flush is kept
+ │    ├── ``ExportError``         the trial cannot be exported in the format asked for
  │    └── ``CorruptFileError``    a data file (trial, C3D, CSV) is unreadable; names the file and the defect
  │                                (also the analysis layer's ``DataFileError``: one class for one defect)
  └── ``ProtocolError``            a trial protocol cannot run as configured
@@ -51,6 +52,10 @@ class RecordingError(InstrumentError):
 
 class DiskFullError(RecordingError, OSError):
     """No space (or file-size limit) left while recording; everything up to the last flush is on disk."""
+
+
+class ExportError(RecordingError):
+    """The trial cannot be exported in the format asked for (or has no data for its table)."""
 
 
 class CorruptFileError(RecordingError, DataFileError):

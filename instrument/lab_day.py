@@ -11,7 +11,11 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from .protocols import AadsProtocol, AnkleProtocol, KneeProtocol, ReplicaProtocol, TrialProtocol
+from .kinds.aads import AadsProtocol
+from .kinds.ankle import AnkleProtocol
+from .kinds.base import TrialProtocol
+from .kinds.knee import KneeProtocol
+from .kinds.replica import ReplicaProtocol
 from .session import TrialOutcome, record_trial
 from .simulate import lab_config_for, simulated_devices, simulation_metadata
 from .store import SessionStore, Subject
@@ -26,11 +30,11 @@ def plan(quick: bool) -> list[tuple[str, TrialProtocol]]:
     speed = 15.0 if quick else 5.0
     rooms: dict[str, list[TrialProtocol]] = {
         # long enough for the operator's whole pass of bends (6.5–11 s), recorded whole
-        "aads": [AadsProtocol(spring=s, operator=1 + (s % 4), trial=1, duration_s=12.0) for s in (1, 2, 3)]}
+        AadsProtocol.name: [AadsProtocol(spring=s, operator=1 + (s % 4), trial=1, duration_s=12.0) for s in (1, 2, 3)]}
     # each knee sweep in its own room: the three are the day's longest trials (recorded side by side)
     rooms.update({f"knee-hip{h:g}": [KneeProtocol(hip_flexion_deg=h, speed_deg_s=speed)] for h in (90.0, 55.0, 15.0)})
-    rooms["ankle"] = [AnkleProtocol(knee_flexion_deg=k, speed_deg_s=speed) for k in (0.0, 45.0, 90.0)]
-    rooms["replica"] = [ReplicaProtocol(hold_s=0.5 if quick else 2.0)]
+    rooms[AnkleProtocol.name] = [AnkleProtocol(knee_flexion_deg=k, speed_deg_s=speed) for k in (0.0, 45.0, 90.0)]
+    rooms[ReplicaProtocol.name] = [ReplicaProtocol(hold_s=0.5 if quick else 2.0)]
     rounds = max(len(v) for v in rooms.values())
     return [(room, trials[k]) for k in range(rounds) for room, trials in rooms.items() if k < len(trials)]
 

@@ -15,6 +15,8 @@ from pathlib import Path
 from typing import Any
 
 from .errors import InstrumentError
+from .export import trial_table
+from .kinds.aads import trial_input
 from .store import SessionStore, TrialRecord
 
 
@@ -55,8 +57,6 @@ class LoadedTrial:
             return read_trial_csv(self.path)
         if self.kind == "c3d":
             raise InstrumentError(f"{self.spec}: a C3D file has no torque table; analyse it with `analyze afo`")
-        from .export import trial_table
-
         table = trial_table(self.file(), self.subject)
         if self.record is not None:
             table.sidecar["trial_status"] = self.record.status  # the index's verdict (accepted, rejected, ...)
@@ -81,8 +81,6 @@ class LoadedTrial:
                                        "trial": written.get("trial")}, k)
         if self.kind != "h5":
             raise InstrumentError(f"{self.spec}: not a trial id, an .h5 trial file or a .c3d file")
-        from .afo import trial_input
-
         ti = trial_input(self.file())
         if self.record is not None:
             ti.factors["store_trial_id"] = self.record.id

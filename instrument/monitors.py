@@ -17,10 +17,11 @@ from typing import Any
 
 import numpy as np
 
+from analysis.aads.model import default_jig_model
 from drivers.dynamometer import SUBJECT_ENVELOPE_DEG, SUBJECT_MAX_SPEED_DEG_S, SUBJECT_MAX_TORQUE_NM
 from drivers.dynamometer.protocol import State
 
-from .protocols import TrialProtocol, default_jig_model
+from .kinds.base import TrialProtocol
 from .relaxation import ActivationAlarm, RelaxationMonitor
 
 #: margins beyond the envelope before a reading counts as a breach (encoder and filter overshoot)
@@ -71,8 +72,8 @@ class LimitMonitor:
 
 
 class RelaxationWatch:
-    """The relaxation check on the steady part of the protocol's sweep (moving at the set speed, away
-    from the ends where the arm accelerates, the device reporting MOVING)."""
+    """The relaxation check on the steady part of the protocol's sweep (moving toward its end at the set
+    speed, away from the ends where the arm accelerates, the device reporting MOVING)."""
 
     def __init__(self, protocol: TrialProtocol, monitor: RelaxationMonitor | None = None) -> None:
         sweep = protocol.sweep_deg()
@@ -84,7 +85,9 @@ class RelaxationWatch:
     def check(self, block: dict[str, np.ndarray], position_deg: np.ndarray, velocity_deg_s: np.ndarray,
               torque_nm: np.ndarray) -> list[ActivationAlarm]:
         speed = self.speed_deg_s
-        steady = np.abs(np.abs(velocity_deg_s) - speed) < STEADY_SPEED_FRACTION * speed
+        # moving toward the sweep's end only: a return leg (out and back) is not the sweep the check knows
+        toward_end = velocity_deg_s * (1.0 if self.end_deg >= self.start_deg else -1.0)
+        steady = np.abs(toward_end - speed) < STEADY_SPEED_FRACTION * speed
         margin = SWEEP_END_MARGIN_S * speed
         lo, hi = sorted((self.start_deg, self.end_deg))
         steady &= (position_deg > lo + margin) & (position_deg < hi - margin)

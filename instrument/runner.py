@@ -22,8 +22,8 @@ from drivers import Dynamometer, StreamingDevice
 
 from .acquisition import AcquisitionEngine
 from .errors import ProtocolError
+from .kinds.base import TrialProtocol
 from .monitors import AadsLoopWatch, SafetyLimits, monitors_for
-from .protocols import TrialProtocol
 from .relaxation import ActivationAlarm, RelaxationMonitor
 from .session import TrialOutcome, record_trial
 from .store import SessionStore

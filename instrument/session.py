@@ -18,7 +18,7 @@ from drivers import ConnectionLostError, StreamingDevice
 from . import __version__
 from .acquisition import AcquisitionEngine, DeviceReport
 from .errors import DiskFullError, RecordingError
-from .protocols import TrialProtocol
+from .kinds.base import TrialProtocol
 from .recording import TrialWriter
 from .store import SessionStore
 

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import asdict, replace
 from typing import Any
@@ -12,74 +12,16 @@ import numpy as np
 from analysis.motion import MotionTrial, cop_from_moment
 from drivers import StreamingDevice, open_dynamometer, open_force_plate, open_marker_stream, open_torque_sensor
 from drivers.simulation.aads_jig import AadsJig, AfoProperties, OperatorStyle
-from drivers.simulation.demo_subject import passive_table
 from drivers.simulation.demo_subject import shank_length_m as demo_shank_length_m
 from drivers.simulation.faults import FaultConfig
 from drivers.simulation.lab import LabConfig, SimulatedLab
-from drivers.simulation.replica_leg import ReplicaLeg
-from drivers.simulation.seated_leg import SeatedLeg
 
-from .protocols import AADS_SPRINGS_N_PER_M, HoldStart, TrialProtocol
+from . import kinds
+from .kinds.aads import AADS_SPRINGS_N_PER_M
+from .kinds.base import TrialProtocol
 
 OPENERS = {"force_plate": open_force_plate, "dynamometer": open_dynamometer,
            "torque_sensor": open_torque_sensor, "mocap": open_marker_stream}
-
-
-def _afo_rig(protocol: Any, subject: dict[str, float], afo: AfoProperties | None) -> dict[str, Any]:
-    return {"afo": afo or AfoProperties(spring_n_per_m=protocol.spring_n_per_m), "operator": protocol.operator}
-
-
-def _seated_leg(protocol: Any, subject: dict[str, Any], afo: AfoProperties | None) -> dict[str, Any]:
-    fixed: dict[str, Any] = {"hip_flexion_deg": protocol.hip_flexion_deg}
-    fixed.update({"ankle_dorsiflexion_deg": protocol.ankle_dorsiflexion_deg} if protocol.joint == "knee"
-                 else {"knee_flexion_deg": protocol.knee_flexion_deg})
-    # the subject's passive moments are OpenSim's (a model the estimator was not built from) where it has
-    # a table for this condition, Riener & Edrich's elsewhere
-    table = passive_table(protocol.joint, protocol.hip_flexion_deg if protocol.joint == "knee"
-                          else protocol.knee_flexion_deg)
-    leg = SeatedLeg(joint=protocol.joint, **fixed, **subject, arm_mass_kg=protocol.arm_mass_kg,
-                    arm_com_m=protocol.arm_com_m)
-    if table is not None:
-        leg = replace(leg, passive_table_deg=table[0], passive_table_nm=table[1])
-    return {"leg": leg, "dyno_start_position_deg": protocol.start_deg}
-
-
-def _replica_rig(protocol: Any, subject: dict[str, float], afo: AfoProperties | None) -> dict[str, Any]:
-    return {"replica": ReplicaLeg(hold_angles_deg=protocol.angles_deg, hold_s=protocol.hold_s,
-                                  move_speed_deg_s=protocol.move_speed_deg_s)}
-
-
-#: from the operator's cue to the first bend sample (s)
-BEND_LEAD_S = 0.05
-
-
-def _afo_operator(protocol: Any, lab: SimulatedLab) -> None:
-    # the simulated operator lifts the AFO off the plate for zeroing (this lab's plate, every time)
-    protocol.unload = lambda off: setattr(lab.force_plate, "specimen_on_plate", not off)
-    # on the protocol's cue the operator bends through one pass of its profile, then rests; a trial
-    # asked to last at least the pass records all of it, so the same seed records the same bends
-    # whatever the host's timing (the lab day's do)
-    protocol.begin_bends = lambda: lab.begin_bends(lead_s=BEND_LEAD_S)
-    protocol.duration_s = min(protocol.duration_s, lab.jig.profile.duration_s + BEND_LEAD_S + 0.2)
-
-
-def _replica_operator(protocol: Any, lab: SimulatedLab) -> None:
-    # the simulated operator's hand: shank off the sensor for the tare, then back on; the hold
-    # schedule started on the protocol's cue (the simulated lab's own, every time: never a previous lab's)
-    protocol.unload = lambda off: setattr(lab.torque_sensor, "shank_attached", not off)
-    protocol.start_holds = lambda: _start_replica_schedule(lab)
-
-
-def _start_replica_schedule(lab: SimulatedLab) -> HoldStart:
-    host_time_s = lab.torque_sensor.start_schedule(lead_s=0.1)
-    counted = lab.torque_sensor.output_rate_hz is not None
-    return HoldStart(host_time_s, lab.torque_sensor.schedule_origin_sample if counted else None)
-
-
-#: the simulated rig (what LabConfig gets) and the simulated operator's hand, per trial kind
-SIMULATED_RIG: dict[str, Callable[[Any, dict[str, float], AfoProperties | None], dict[str, Any]]] = {
-    "aads": _afo_rig, "knee": _seated_leg, "ankle": _seated_leg, "replica": _replica_rig}
-SIMULATED_OPERATOR: dict[str, Callable[[Any, SimulatedLab], None]] = {"aads": _afo_operator, "replica": _replica_operator}
 
 
 def lab_config_for(protocol: TrialProtocol, *, seed: int = 0, faults: FaultConfig | None = None,
@@ -91,7 +33,7 @@ def lab_config_for(protocol: TrialProtocol, *, seed: int = 0, faults: FaultConfi
     f = faults or FaultConfig()
     cfg: dict[str, Any] = {"seed": seed, "plate_faults": f, "dyno_faults": f, "torque_faults": f}
     subject = {"body_mass_kg": body_mass_kg, "shank_length_m": shank_length_m, "foot_length_m": foot_length_m}
-    cfg.update(SIMULATED_RIG[protocol.name](protocol, subject, afo))
+    cfg.update(kinds.get(protocol.name).simulated_rig(protocol, subject, afo))
     return LabConfig(**cfg)
 
 
@@ -104,9 +46,7 @@ def simulated_devices(protocol: TrialProtocol, config: LabConfig | None = None) 
     # loaded host a 50 ms poll timeout (the real link's) counts scheduler delays as lost polls
     urls = {**lab.urls, "torque_sensor": lab.urls["torque_sensor"] + "&timeout=0.25"}
     devices = {name: OPENERS[name](urls[name]) for name in protocol.devices}
-    operator = SIMULATED_OPERATOR.get(protocol.name)
-    if operator is not None:
-        operator(protocol, lab)
+    kinds.get(protocol.name).simulated_operator(protocol, lab)
     try:
         yield lab, devices
     finally:

@@ -18,7 +18,7 @@ from drivers.simulation.lab import SimulatedLab
 from drivers.simulation.seated_leg import Burst
 
 from .errors import ProtocolError
-from .protocols import TrialProtocol
+from .kinds.base import TrialProtocol
 from .simulate import OPENERS, lab_config_for, simulated_devices, simulation_metadata
 
 

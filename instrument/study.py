@@ -20,7 +20,9 @@ from typing import Any
 
 import numpy as np
 
-from .protocols import AnkleProtocol, IsokineticProtocol, KneeProtocol
+from .kinds.ankle import AnkleProtocol
+from .kinds.isokinetic import IsokineticProtocol
+from .kinds.knee import KneeProtocol
 from .session import record_trial
 from .simulate import lab_config_for, simulated_devices, simulation_metadata
 from .store import SessionStore, Subject
@@ -72,12 +74,10 @@ def passive_table(protocol: IsokineticProtocol, leg: Any) -> tuple[np.ndarray, n
     """(position deg, moment N·m toward positive angles) of the subject's muscles over the sweep's range."""
     lo, hi = sorted((protocol.start_deg, protocol.end_deg))
     deg = np.arange(lo - 3.0, hi + 3.0 + 1e-9, 0.1)  # linear between: 0.1° keeps it under 0.01 N·m
-    if protocol.joint == "knee":
-        hip, ankle = np.deg2rad(protocol.hip_flexion_deg), np.deg2rad(protocol.ankle_dorsiflexion_deg)  # type: ignore[attr-defined]
-        nm = [leg.joint_moment_nm("knee", hip=hip, knee=np.deg2rad(d), ankle=ankle) for d in deg]
-    else:
-        hip, knee = np.deg2rad(protocol.hip_flexion_deg), np.deg2rad(protocol.knee_flexion_deg)  # type: ignore[attr-defined]
-        nm = [leg.joint_moment_nm("ankle", hip=hip, knee=knee, ankle=np.deg2rad(d)) for d in deg]
+    fixed = protocol.fixed_angles_deg()
+    set_rad = dict(hip=np.deg2rad(fixed.get("hip_flexion_deg", 0.0)), knee=np.deg2rad(fixed.get("knee_flexion_deg", 0.0)),
+                   ankle=np.deg2rad(fixed.get("ankle_dorsiflexion_deg", 0.0)))  # the joints' angles (rad)
+    nm = [leg.joint_moment_nm(protocol.joint, **{**set_rad, protocol.joint: np.deg2rad(d)}) for d in deg]
     return deg, np.asarray(nm, dtype=float)
 
 

@@ -7,6 +7,7 @@ default's value, so a lab's file only needs what differs on its jig.
 
 from __future__ import annotations
 
+import functools
 import json
 import tomllib
 from dataclasses import dataclass
@@ -172,6 +173,13 @@ def jig_model_from_dict(data: dict[str, Any], source: str = "<dict>") -> JigMode
     if not (model.filter_cutoff_hz > 0 and model.spring_rest_length_m > 0):
         raise DataFileError(source, "filter.cutoff_hz and spring.rest_length_m must be positive")
     return model
+
+
+@functools.cache
+def default_jig_model() -> JigModel:
+    """The dissertation's jig, read once: its fit window and hinge stop are what every AADS trial uses,
+    and the live AADS loop re-analyses with it every 0.25 s."""
+    return load_jig_model()
 
 
 def load_jig_model(path: str | Path | None = None) -> JigModel:

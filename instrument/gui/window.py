@@ -8,32 +8,23 @@ button and the Esc key; closing the window mid-trial stops the devices and keeps
 
 from __future__ import annotations
 
-import random
 import threading
 import time
 from typing import Any
 
-import numpy as np
 import pyqtgraph as pg
 from PySide6 import QtCore, QtGui, QtWidgets
 
+from analysis.aads.model import default_jig_model
 from analysis.trial_csv import SUBJECT_RANGES
 
+from .. import kinds
 from ..acquisition import AcquisitionEngine, device_health_text
 from ..analyses import analyse_set
-from ..protocols import (
-    AADS_SPRINGS_N_PER_M,
-    AadsProtocol,
-    AnkleProtocol,
-    KneeProtocol,
-    ReplicaProtocol,
-    TrialProtocol,
-    default_jig_model,
-)
+from ..kinds.base import Curves, Parameter, TrialKind, TrialProtocol
 from ..runner import Checklist, SafetyLimits, TrialRunner, checklist_for
 from ..store import SessionStore, Subject
 
-PROTOCOL_NAMES = ("AADS test", "Knee isokinetic", "Ankle isokinetic", "Replica leg")
 REFRESH_HZ = 30.0
 
 
@@ -97,47 +88,35 @@ class MainWindow(QtWidgets.QMainWindow):
         root.addLayout(side, 0)
 
         self.protocol_box = QtWidgets.QComboBox()
-        self.protocol_box.addItems(PROTOCOL_NAMES)
+        self.protocol_box.addItems([k.title for k in kinds.KINDS])
         self.protocol_box.currentIndexChanged.connect(self._on_protocol_changed)
         side.addWidget(QtWidgets.QLabel("<b>Protocol</b>"))
         side.addWidget(self.protocol_box)
 
+        # the form: one field per parameter of any kind (generated from the kinds), shown for the kinds
+        # that have it; a kind's buttons (actions) below its fields
         form = QtWidgets.QFormLayout()
-        self.spring_box = QtWidgets.QComboBox()
-        self.spring_box.addItems([f"{k}: {v:.0f} N/m" for k, v in AADS_SPRINGS_N_PER_M.items()])
-        self.aads_operator = QtWidgets.QSpinBox(minimum=1, maximum=4)
-        self.aads_trial = QtWidgets.QSpinBox(minimum=1, maximum=5)
-        self.order_button = QtWidgets.QPushButton("Randomise spring order")
-        self.order_button.clicked.connect(self._randomise_springs)
-        self.order_label = QtWidgets.QLabel("")
-        self.hip_box = QtWidgets.QComboBox()
-        self.hip_box.addItems(["90", "55", "15"])
-        self.knee_box = QtWidgets.QComboBox()
-        self.knee_box.addItems(["0", "45", "90"])
-        self.speed_spin = QtWidgets.QDoubleSpinBox(minimum=1.0, maximum=self.limits.max_speed_deg_s, value=5.0, suffix=" °/s")
-        self.end_spin = QtWidgets.QDoubleSpinBox(minimum=5.0, maximum=90.0, value=90.0, suffix=" °")
-        self.hold_spin = QtWidgets.QDoubleSpinBox(minimum=0.3, maximum=10.0, value=2.0, suffix=" s")
-        # the dynamometer arm's weight, removed from the torque (the checklist asks for it)
-        self.arm_mass_spin = QtWidgets.QDoubleSpinBox(minimum=0.0, maximum=20.0, value=1.8, decimals=2, suffix=" kg")
-        self.arm_com_spin = QtWidgets.QDoubleSpinBox(minimum=0.0, maximum=1.0, value=0.22, decimals=3, suffix=" m")
-        for spin in (self.arm_mass_spin, self.arm_com_spin):
-            spin.valueChanged.connect(self._reset_checklist)
-        self.seconds_spin = QtWidgets.QDoubleSpinBox(minimum=2.0, maximum=30.0, value=6.0, suffix=" s")
-        self.afo_edit = QtWidgets.QLineEdit("hinged AFO (default jig)")
-        self.live_markers_box = QtWidgets.QCheckBox("live markers (else force-guided; angle from the C3D export)")
-        self.live_markers_box.setChecked(bool(getattr(self.source, "live_markers", True)))
+        self.fields: dict[str, QtWidgets.QWidget] = {}
         self.rows: dict[str, list[QtWidgets.QWidget]] = {}
-        for key, label, w in (("aads", "AFO", self.afo_edit), ("aads", "", self.live_markers_box),
-                              ("aads", "Spring", self.spring_box), ("aads", "Operator", self.aads_operator),
-                              ("aads", "Trial", self.aads_trial), ("aads", "Bend time", self.seconds_spin),
-                              ("aads", "", self.order_button), ("aads", "", self.order_label),
-                              ("knee", "Hip flexion (°)", self.hip_box), ("ankle", "Knee flexion (°)", self.knee_box),
-                              ("iso", "Speed", self.speed_spin), ("knee", "Sweep end", self.end_spin),
-                              ("iso", "Arm mass", self.arm_mass_spin), ("iso", "Arm centre of mass", self.arm_com_spin),
-                              ("replica", "Hold per angle", self.hold_spin)):
-            lab = QtWidgets.QLabel(label)
+        for p in kinds.all_parameters():
+            w = self._field_for(p)
+            lab = QtWidgets.QLabel("" if p.value_type is bool else p.label)
             form.addRow(lab, w)
-            self.rows.setdefault(key, []).extend([lab, w])
+            self.fields[p.name] = w
+            self.rows[p.name] = [lab, w]
+        live = self.fields.get("live_markers")
+        if isinstance(live, QtWidgets.QCheckBox):
+            live.setChecked(bool(getattr(self.source, "live_markers", True)))
+        for name in ("arm_mass_kg", "arm_com_m"):  # the checklist names the arm's weight
+            if name in self.fields:
+                self.fields[name].valueChanged.connect(self._reset_checklist)  # type: ignore[attr-defined]  # a spin box
+        self.action_rows: dict[str, list[QtWidgets.QWidget]] = {}
+        for k in kinds.KINDS:
+            for action in k.actions:
+                button, note = QtWidgets.QPushButton(action.label), QtWidgets.QLabel("")
+                button.clicked.connect(lambda _=False, act=action, out=note: self._run_action(act, out))
+                form.addRow(button, note)
+                self.action_rows.setdefault(k.name, []).extend([button, note])
         side.addLayout(form)
 
         side.addWidget(QtWidgets.QLabel("<b>Subject</b>"))
@@ -217,6 +196,9 @@ class MainWindow(QtWidgets.QMainWindow):
         self.curve_c = self.plot_a.plot(pen=pg.mkPen("#2ca02c", width=1))  # monitor: the replica torque sensor
         self.alarm_points = pg.ScatterPlotItem(size=14, brush=pg.mkBrush(220, 0, 0, 200), symbol="x")
         self.plot_a.addItem(self.alarm_points)
+        self._curves = Curves()  # what a kind's live view draws on
+        self._curves.a, self._curves.b, self._curves.c = self.curve_a, self.curve_b, self.curve_c
+        self._curves.alarms = self.alarm_points
         jig = default_jig_model()  # the fit window and the hinge stop the AADS analysis uses
         self.window_region = pg.LinearRegionItem(values=jig.fit_window_deg, movable=False, brush=pg.mkBrush(0, 160, 0, 40))
         self.stop_line = pg.InfiniteLine(pos=jig.stop_deg, angle=90, pen=pg.mkPen("r", style=QtCore.Qt.PenStyle.DashLine))
@@ -227,32 +209,87 @@ class MainWindow(QtWidgets.QMainWindow):
         self.statusBar().addPermanentWidget(self.health, 1)
 
     # ------------------------------------------------------------------ protocol set-up
+    @staticmethod
+    def _field_for(p: Parameter) -> QtWidgets.QWidget:
+        """The form's field for a parameter: a list of its choices, a check box, a text line or a spin box."""
+        if p.value_type is bool:
+            box = QtWidgets.QCheckBox(p.label)
+            box.setChecked(bool(p.default))
+            box.setToolTip(p.help)
+            return box
+        if p.choices:
+            combo = QtWidgets.QComboBox()
+            for c in p.choices:
+                combo.addItem(p.text_of(c), c)
+            combo.setCurrentIndex(p.choices.index(p.default))
+            combo.setToolTip(p.help)
+            return combo
+        if p.value_type is str:
+            edit = QtWidgets.QLineEdit(str(p.default))
+            edit.setToolTip(p.help)
+            return edit
+        spin: QtWidgets.QSpinBox | QtWidgets.QDoubleSpinBox
+        if p.value_type is int:
+            spin = QtWidgets.QSpinBox(minimum=int(p.low or 0), maximum=int(p.high or 999))
+        else:
+            spin = QtWidgets.QDoubleSpinBox(minimum=p.low or 0.0, maximum=p.high or 1e6,
+                                            decimals=3 if p.unit == "m" else 2)
+        spin.setValue(p.default)
+        if p.unit:
+            spin.setSuffix(f" {p.unit}")
+        spin.setToolTip(p.help)
+        return spin
+
+    def field_value(self, name: str) -> Any:
+        """The value the operator entered for parameter ``name``."""
+        w = self.fields[name]
+        if isinstance(w, QtWidgets.QCheckBox):
+            return w.isChecked()
+        if isinstance(w, QtWidgets.QComboBox):
+            return w.currentData()
+        if isinstance(w, QtWidgets.QLineEdit):
+            return w.text()
+        return w.value()  # type: ignore[attr-defined]  # a spin box
+
+    def set_field(self, name: str, value: Any) -> None:
+        """Enter ``value`` for parameter ``name`` (as the operator would)."""
+        w = self.fields[name]
+        if isinstance(w, QtWidgets.QCheckBox):
+            w.setChecked(bool(value))
+        elif isinstance(w, QtWidgets.QComboBox):
+            w.setCurrentIndex(w.findData(value))
+        elif isinstance(w, QtWidgets.QLineEdit):
+            w.setText(str(value))
+        else:
+            w.setValue(value)  # type: ignore[attr-defined]  # a spin box
+
+    def kind(self) -> TrialKind:
+        """The trial kind chosen in the form."""
+        return kinds.KINDS[self.protocol_box.currentIndex()]
+
     def protocol(self) -> TrialProtocol:
         """The protocol the form describes."""
-        i = self.protocol_box.currentIndex()
-        if i == 0:
-            return AadsProtocol(spring=self.spring_box.currentIndex() + 1, operator=self.aads_operator.value(),
-                                trial=self.aads_trial.value(), duration_s=self.seconds_spin.value(),
-                                afo=self.afo_edit.text().strip() or "unnamed AFO",
-                                live_markers=self.live_markers_box.isChecked())
-        arm = {"arm_mass_kg": self.arm_mass_spin.value(), "arm_com_m": self.arm_com_spin.value()}
-        if i == 1:
-            return KneeProtocol(hip_flexion_deg=float(self.hip_box.currentText()), speed_deg_s=self.speed_spin.value(),
-                                end_deg=self.end_spin.value(), **arm)
-        if i == 2:
-            return AnkleProtocol(knee_flexion_deg=float(self.knee_box.currentText()), speed_deg_s=self.speed_spin.value(),
-                                 **arm)
-        return ReplicaProtocol(hold_s=self.hold_spin.value())
+        kind = self.kind()
+        return kind.protocol(**{p.name: self.field_value(p.name) for p in kind.parameters})
+
+    def _run_action(self, action: Any, note: QtWidgets.QLabel) -> None:
+        values, line = action.run({p.name: self.field_value(p.name) for p in self.kind().parameters})
+        for name, value in values.items():
+            self.set_field(name, value)
+        note.setText(line)
 
     def _on_protocol_changed(self, index: int) -> None:
-        key = ("aads", "knee", "ankle", "replica")[index]
-        for k, widgets in self.rows.items():
-            show = k == key or (k == "iso" and key in ("knee", "ankle"))
+        kind = self.kind()
+        mine = {p.name for p in kind.parameters}
+        for name, widgets in self.rows.items():
             for w in widgets:
-                w.setVisible(show)
+                w.setVisible(name in mine)
+        for owner, widgets in self.action_rows.items():
+            for w in widgets:
+                w.setVisible(owner == kind.name)
         self._reset_checklist()
-        self._set_plot_mode(key)
-        self.instructions.setText(self._instructions(key))
+        self._set_plot_mode(kind)
+        self.instructions.setText(kind.instructions())
         self._update_buttons()
 
     def _reset_checklist(self) -> None:
@@ -310,40 +347,16 @@ class MainWindow(QtWidgets.QMainWindow):
     def _anthropometrics_ok(self) -> bool:
         return not self.subject_problems()
 
-    def _randomise_springs(self) -> None:
-        order = random.sample(sorted(AADS_SPRINGS_N_PER_M), 3)
-        self.order_label.setText("spring order: " + " → ".join(str(s) for s in order))
-        self.spring_box.setCurrentIndex(order[0] - 1)
-
-    @staticmethod
-    def _instructions(key: str) -> str:
-        (lo, hi), stop = default_jig_model().fit_window_deg, default_jig_model().stop_deg
-        return {
-            "aads": f"AADS: with the AFO unloaded, zero the plate. Then push the AFO down past {hi:g}° (not beyond "
-                    f"the {stop:g}° stop) and return it to neutral. The loop must cover the green {lo:g}–{hi:g}° window.",
-            "knee": "Knee: subject seated, hip as set, relaxed. The dynamometer moves the knee from full extension to "
-                    "flexion at the set speed. Red crosses mark torque the passive tissue cannot make (activation).",
-            "ankle": "Ankle: knee as set, relaxed. The dynamometer moves the ankle from full dorsiflexion to "
-                     "plantarflexion at the set speed. Red crosses mark activation.",
-            "replica": "Replica leg, hip 90°: lift the shank off for the tare when asked, then the knee is locked "
-                       "every 8° from 0 to 88°; the torque is read at each hold.",
-        }[key]
-
-    def _set_plot_mode(self, key: str) -> None:
+    def _set_plot_mode(self, kind: TrialKind) -> None:
         for item in (self.window_region, self.stop_line):
             if item.scene() is not None:
                 self.plot_a.removeItem(item)
-        if key == "aads":
-            self.plot_a.setLabels(left="AFO torque (N·m)", bottom="dorsiflexion (°)")
-            self.plot_b.setLabels(left="vertical force (N)", bottom="time (s)")
+        view = kind.view
+        self.plot_a.setLabels(left=view.a_labels[0], bottom=view.a_labels[1])
+        self.plot_b.setLabels(left=view.b_labels[0], bottom=view.b_labels[1])
+        if view.marks_fit_window:
             self.plot_a.addItem(self.window_region)
             self.plot_a.addItem(self.stop_line)
-        elif key in ("knee", "ankle"):
-            self.plot_a.setLabels(left="torque (N·m)", bottom="time (s)")
-            self.plot_b.setLabels(left="angle (°)", bottom="time (s)")
-        else:
-            self.plot_a.setLabels(left="knee torque (N·m)", bottom="time (s)")
-            self.plot_b.setLabels(left="shaft speed (rpm)", bottom="time (s)")
         self.curve_a.setData([], [])
         self.curve_b.setData([], [])
         self.curve_c.setData([], [])
@@ -354,7 +367,7 @@ class MainWindow(QtWidgets.QMainWindow):
             self._trial_thread is not None and self._trial_thread.is_alive() and self.runner is None)
         finished = self.runner is not None and self.runner.snapshot().phase in ("done", "failed") and \
             self._last_verdict is None
-        needs_subject = self.protocol_box.currentIndex() in (1, 2)
+        needs_subject = self.kind().needs_anthropometrics
         ready = self.checklist.complete and (self._anthropometrics_ok() or not needs_subject)
         self.start_button.setEnabled(ready and not running and not finished)
         self.stop_button.setEnabled(running)
@@ -394,7 +407,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self._setup_error = None
         self._last_verdict = None
         self.estop_alarm = None
-        self._set_plot_mode(protocol.name)
+        self._set_plot_mode(kinds.get(protocol.name))
         # the previous trial's devices may still be closing: the new trial thread waits for that
         self._trial_thread = threading.Thread(target=self._run_trial, args=(protocol, session, self._trial_thread),
                                               daemon=True, name="gui-trial")
@@ -450,8 +463,10 @@ class MainWindow(QtWidgets.QMainWindow):
         self._update_buttons()
 
     def _next_trial_number(self) -> None:
-        if self.protocol_box.currentIndex() == 0 and self.aads_trial.value() < 5:
-            self.aads_trial.setValue(self.aads_trial.value() + 1)
+        """Offer the next trial number, for kinds that number their trials."""
+        trial = next((p for p in self.kind().parameters if p.name == "trial"), None)
+        if trial is not None and trial.high is not None and self.field_value("trial") < trial.high:
+            self.set_field("trial", self.field_value("trial") + 1)
 
     # ------------------------------------------------------------------ background analysis
     def _analyse_in_background(self, runner: TrialRunner) -> None:
@@ -527,34 +542,10 @@ class MainWindow(QtWidgets.QMainWindow):
 
     def _plot(self, engine: AcquisitionEngine, runner: TrialRunner | None) -> None:
         rings = engine.rings
-        key = runner.protocol.name if runner is not None else "monitor"
-        if key == "monitor":
+        if runner is None:
             self._plot_monitor(rings)
-        elif key in ("knee", "ankle") and "dynamometer" in rings:
-            d = rings["dynamometer"].latest()
-            if len(d["time_s"]):
-                t0 = d["time_s"][0]
-                self.curve_a.setData(d["time_s"] - t0, d["torque_nm"])
-                self.curve_b.setData(d["time_s"] - t0, np.rad2deg(d["position_rad"]))
-                if runner is not None:
-                    alarms = runner.snapshot().alarms
-                    if alarms:
-                        at = np.array([a.time_s for a in alarms]) - t0
-                        self.alarm_points.setData(at, np.interp(at, d["time_s"] - t0, d["torque_nm"]))
-        elif key == "aads" and rings:
-            snap = runner.snapshot() if runner is not None else None
-            if snap is not None and snap.aads_angle_deg.size:
-                self.curve_a.setData(snap.aads_angle_deg, snap.aads_torque_nm)
-            if "force_plate" in rings:
-                f = rings["force_plate"].latest(5000)
-                if len(f["time_s"]):
-                    self.curve_b.setData(f["time_s"] - f["time_s"][0], f["force_n"][:, 2])
-        elif key == "replica" and "torque_sensor" in rings:
-            d = rings["torque_sensor"].latest()
-            if len(d["time_s"]):
-                self.curve_a.setData(d["time_s"] - d["time_s"][0], d["torque_nm"])
-                if "speed_rpm" in d:
-                    self.curve_b.setData(d["time_s"] - d["time_s"][0], d["speed_rpm"])
+            return
+        kinds.get(runner.protocol.name).view.draw(self._curves, rings, runner.snapshot())
 
     def _plot_monitor(self, rings: dict[str, Any]) -> None:
         """Every device streaming, nothing recorded: dynamometer and sensor torque, plate Fz (last 10 s).
@@ -608,4 +599,4 @@ class MainWindow(QtWidgets.QMainWindow):
         super().closeEvent(event)
 
 
-__all__ = ["MainWindow", "FrameCounter", "analyse_set", "PROTOCOL_NAMES"]
+__all__ = ["FrameCounter", "MainWindow", "analyse_set"]

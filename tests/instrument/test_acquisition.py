@@ -11,7 +11,7 @@ import numpy as np
 from analysis.timebase import align, resample
 from drivers.simulation.faults import FaultConfig
 from instrument.acquisition import RingBuffer
-from instrument.protocols import AadsProtocol
+from instrument.kinds.aads import AadsProtocol
 from instrument.recording import read_trial
 from instrument.session import record_trial
 from instrument.simulate import lab_config_for, simulated_devices

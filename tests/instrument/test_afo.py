@@ -11,7 +11,7 @@ import pytest
 from analysis.c3d import write_c3d
 from drivers.simulation.aads_jig import AfoProperties
 from instrument.cli import main
-from instrument.protocols import AadsProtocol
+from instrument.kinds.aads import AadsProtocol
 from instrument.recording import read_trial
 from instrument.session import record_trial
 from instrument.simulate import simulated_devices, simulation_metadata, synthesize_aads_trial
@@ -40,7 +40,7 @@ def test_recorded_trial_through_the_devices_gives_the_simulators_torque(tmp_path
     assert (row["spring"], row["operator"], row["trial"], row["store_trial_id"]) == (2, 1, 3, out.trial_id)
     assert row["sop_vs_bottom_up_max_nm"] < 1e-9 and row["marker_fit_accepted"]
     # the torque the analysis finds is the torque the jig simulator applied at those instants
-    from instrument.export import aads_table
+    from instrument.kinds.aads import aads_table
 
     table = aads_table(trial)
     t_abs = table.time_s + trial.devices["mocap"].channels["time_s"][0] - trial.metadata["simulation"]["jig_time_origin_s"]

@@ -7,8 +7,8 @@ from pathlib import Path
 import pytest
 
 from instrument.analyses import analyse_set
+from instrument.kinds.knee import KneeProtocol
 from instrument.lab_day import SUBJECT
-from instrument.protocols import KneeProtocol
 from instrument.session import record_trial
 from instrument.simulate import lab_config_for, simulated_devices
 from instrument.store import SessionStore
@@ -57,7 +57,7 @@ def test_an_activation_the_live_check_let_through_is_explained_not_contradicted(
 def test_an_aads_set_of_three_springs_gets_the_afo_model_level_diagnosis(tmp_path: Path) -> None:
     """After the third accepted AADS trial of the session's AFO, the set analysis diagnoses the AFO
     model across its springs (the simulated AFO has hinge friction and a compliant shell)."""
-    from instrument.protocols import AadsProtocol
+    from instrument.kinds.aads import AadsProtocol
     from instrument.store import Subject
 
     store = SessionStore(tmp_path / "store")

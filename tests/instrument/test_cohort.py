@@ -161,7 +161,7 @@ def test_the_same_run_goes_to_a_lab_cluster_by_its_scheduler_address(tmp_path: P
 def test_a_subject_without_anthropometrics_is_left_out_and_said_so(tmp_path: Path) -> None:
     from instrument.cohort import study_from_store
     from instrument.errors import InstrumentError
-    from instrument.protocols import KneeProtocol
+    from instrument.kinds.knee import KneeProtocol
     from instrument.session import record_trial
     from instrument.simulate import simulated_devices
     from instrument.store import Subject

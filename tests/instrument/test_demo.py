@@ -7,6 +7,7 @@ from pathlib import Path
 
 import pytest
 
+from instrument import kinds
 from instrument.cli import main
 
 
@@ -94,7 +95,7 @@ def test_demo_records_a_lab_day_into_a_store(demo_run: tuple[Path, str]) -> None
     assert len(drill["burst"]["alarms"]) == 1 and drill["burst"]["status"] == "rejected"  # one burst, one flag
     assert drill["relaxed"]["status"] == "accepted" and not drill["relaxed"]["alarms"]
     assert drill["estop"]["status"] == "rejected" and drill["estop"]["estop_latency_ms"] is not None
-    assert len(drill["gui_screens"]) == 4
+    assert drill["gui_screens"] == [f"{i}-{k.name}.png" for i, k in enumerate(kinds.KINDS)]
 
 
 def test_the_loader_gives_store_trials_their_subject_and_the_index_verdict(demo_run: tuple[Path, str]) -> None:

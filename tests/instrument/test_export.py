@@ -12,8 +12,10 @@ from analysis.errors import DataFileError
 from analysis.motion import MotionTrial
 from analysis.sto import read_sto, write_sto
 from analysis.trial_csv import TrialTable, read_trial_csv, write_trial_csv
-from instrument.export import arm_gravity_moment_nm, export_trial
-from instrument.protocols import AadsProtocol, KneeProtocol
+from instrument import kinds
+from instrument.export import export_trial
+from instrument.kinds.aads import AadsProtocol
+from instrument.kinds.knee import KneeProtocol
 from instrument.recording import read_trial
 from instrument.session import record_trial
 from instrument.simulate import simulated_devices, simulation_metadata
@@ -91,9 +93,9 @@ def test_sto_and_csv_round_trips(tmp_path: Path) -> None:
 
 def test_arm_weight_compensation_signs() -> None:
     # knee: arm horizontal at 0° pulls toward flexion; hanging at 90° it pulls nowhere
-    np.testing.assert_allclose(arm_gravity_moment_nm("knee", np.array([0.0, 90.0]), 2.0, 0.25), [4.905, 0.0], atol=1e-12)
+    np.testing.assert_allclose(kinds.get("knee").arm_gravity_nm(np.array([0.0, 90.0]), 2.0, 0.25, {}), [4.905, 0.0], atol=1e-12)
     # ankle, knee at 90°: footplate horizontal at 0° dorsiflexion, gravity plantarflexes
-    assert arm_gravity_moment_nm("ankle", np.array([0.0]), 2.0, 0.25, knee_flexion_deg=90.0)[0] == pytest.approx(-4.905)
+    assert kinds.get("ankle").arm_gravity_nm(np.array([0.0]), 2.0, 0.25, {"knee_flexion_deg": 90.0})[0] == pytest.approx(-4.905)
 
 
 def test_recorded_trials_export_with_the_documented_conventions(tmp_path: Path) -> None:
@@ -138,7 +140,7 @@ def test_recorded_trials_export_with_the_documented_conventions(tmp_path: Path) 
 def _replica_table(tmp_path: Path, name: str) -> TrialTable:
     """One seeded replica trial (0.3 s holds) recorded through the Modbus driver and exported."""
     from instrument.export import trial_table
-    from instrument.protocols import ReplicaProtocol
+    from instrument.kinds.replica import ReplicaProtocol
     from instrument.simulate import lab_config_for
 
     store = SessionStore(tmp_path / name)

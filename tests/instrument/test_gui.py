@@ -11,7 +11,8 @@ pytest.importorskip("pytestqt")
 from PySide6 import QtCore, QtGui  # noqa: E402
 
 from drivers.dynamometer.protocol import State  # noqa: E402
-from instrument.gui.window import PROTOCOL_NAMES, MainWindow  # noqa: E402
+from instrument import kinds  # noqa: E402
+from instrument.gui.window import MainWindow  # noqa: E402
 from instrument.recording import read_trial  # noqa: E402
 from instrument.sources import SimulatedSource  # noqa: E402
 from instrument.store import SessionStore  # noqa: E402
@@ -47,7 +48,7 @@ def run_to_end(qtbot, w: MainWindow, timeout_s: float = 60.0) -> None:
 
 
 def test_every_screen_renders(window: MainWindow, tmp_path: Path) -> None:
-    for i, name in enumerate(PROTOCOL_NAMES):
+    for i, name in enumerate(k.title for k in kinds.KINDS):
         window.protocol_box.setCurrentIndex(i)
         QtCore.QCoreApplication.processEvents()
         shot = tmp_path / f"screen-{i}-{name.split()[0].lower()}.png"
@@ -61,8 +62,8 @@ def test_every_screen_renders(window: MainWindow, tmp_path: Path) -> None:
 
 def test_knee_trial_flags_a_burst_is_repeated_then_accepted(qtbot, window: MainWindow, tmp_path: Path) -> None:
     window.protocol_box.setCurrentIndex(1)
-    window.end_spin.setValue(30.0)
-    window.speed_spin.setValue(10.0)
+    window.set_field("end_deg", 30.0)
+    window.set_field("speed_deg_s", 10.0)
     window.confirm_checklist()
     qtbot.mouseClick(window.start_button, QtCore.Qt.MouseButton.LeftButton)
     qtbot.waitUntil(lambda: window.runner is not None and window.runner.sweep_started.is_set(), timeout=20000)
@@ -126,14 +127,14 @@ def test_aads_trial_draws_the_loop_and_checks_the_fit_window(qtbot, window: Main
     qtbot.mouseClick(window.accept_button, QtCore.Qt.MouseButton.LeftButton)
     qtbot.waitUntil(lambda: window.analysis_text != "", timeout=60000)
     assert "N·m/°" in window.analysis_text and "failed" not in window.analysis_text
-    assert window.aads_trial.value() == 2  # the next trial number is offered
+    assert window.field_value("trial") == 2  # the next trial number is offered
     window._refresh()  # after a normal trial no device is reported lost (closed ones say "closed")
     assert "DISCONNECTED" not in window.health.text(), window.health.text()
 
 
 def test_replica_trial_and_closing_mid_trial_keeps_the_data(qtbot, window: MainWindow) -> None:
     window.protocol_box.setCurrentIndex(3)
-    window.hold_spin.setValue(0.4)
+    window.set_field("hold_s", 0.4)
     window.confirm_checklist()
     qtbot.mouseClick(window.start_button, QtCore.Qt.MouseButton.LeftButton)
     run_to_end(qtbot, window)
@@ -192,8 +193,8 @@ def test_subject_is_saved_validated_and_updated(window: MainWindow) -> None:
 
 def test_arm_entries_reach_the_protocol_and_its_checklist(window: MainWindow) -> None:
     window.protocol_box.setCurrentIndex(2)  # ankle
-    window.arm_mass_spin.setValue(2.5)
-    window.arm_com_spin.setValue(0.3)
+    window.set_field("arm_mass_kg", 2.5)
+    window.set_field("arm_com_m", 0.3)
     proto = window.protocol()
     assert (proto.arm_mass_kg, proto.arm_com_m) == (2.5, 0.3)
     items = [window.check_list.item(i).text() for i in range(window.check_list.count())]

@@ -6,8 +6,10 @@ import numpy as np
 import pytest
 
 from drivers.dynamometer.protocol import State
+from instrument import kinds
+from instrument.kinds.ankle import AnkleProtocol
+from instrument.kinds.knee import KneeProtocol
 from instrument.monitors import LimitMonitor, RelaxationWatch, SafetyLimits, monitors_for
-from instrument.protocols import PROTOCOLS, AnkleProtocol, KneeProtocol
 
 
 def test_the_envelope_names_the_first_breach() -> None:
@@ -20,9 +22,9 @@ def test_the_envelope_names_the_first_breach() -> None:
     assert m.check(ok[0], np.array([5.0, 36.0]), ok[2]) == "speed 36°/s over 30°/s"
 
 
-@pytest.mark.parametrize("name", sorted(PROTOCOLS))
+@pytest.mark.parametrize("name", kinds.names())
 def test_each_kind_gets_the_monitors_it_asks_for(name: str) -> None:
-    proto = PROTOCOLS[name]()
+    proto = kinds.get(name).protocol()
     limit, watch = monitors_for(proto, SafetyLimits())
     assert (limit is not None) == ("dynamometer" in proto.devices)
     assert (watch is not None) == proto.relaxation_monitored
@@ -44,5 +46,5 @@ def test_relaxation_watch_reads_only_the_steady_part_of_the_sweep() -> None:
     assert a.min() > 1.5 and a.max() < 58.5  # away from the ends (0.3 s of travel at 5°/s)
     assert not np.any((a >= pos[500]) & (a <= pos[549]))  # nor where the device was not moving
     with pytest.raises(ValueError):
-        RelaxationWatch(PROTOCOLS["replica"]())
+        RelaxationWatch(kinds.get("replica").protocol())
     assert RelaxationWatch(AnkleProtocol()).speed_deg_s == 5.0

@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 
 from instrument.cli import main as cli_main
 from instrument.errors import SubjectCodeError
-from instrument.protocols import KneeProtocol
+from instrument.kinds.knee import KneeProtocol
 from instrument.recording import read_trial
 from instrument.session import record_trial
 from instrument.simulate import simulated_devices

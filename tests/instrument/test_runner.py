@@ -8,7 +8,9 @@ import numpy as np
 import pytest
 
 from instrument.errors import ProtocolError
-from instrument.protocols import AnkleProtocol, KneeProtocol, ReplicaProtocol
+from instrument.kinds.ankle import AnkleProtocol
+from instrument.kinds.knee import KneeProtocol
+from instrument.kinds.replica import ReplicaProtocol
 from instrument.recording import read_trial
 from instrument.runner import Checklist, SafetyLimits, TrialRunner, checklist_for
 from instrument.sources import HardwareSource, SimulatedSource
@@ -99,7 +101,7 @@ def test_verdict_before_the_end_is_refused_and_missing_urls_are_named(store: Ses
 
 def test_aads_zeroes_the_plate_with_the_afo_lifted_and_runs_force_guided_without_markers(store: SessionStore) -> None:
     from drivers.simulation.aads_jig import AadsJig
-    from instrument.protocols import AadsProtocol
+    from instrument.kinds.aads import AadsProtocol
 
     assert AadsProtocol.devices == ("force_plate", "mocap")
     proto = AadsProtocol(spring=1, duration_s=3.0, live_markers=False, afo="test AFO")

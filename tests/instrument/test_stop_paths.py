@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from drivers.dynamometer.protocol import State
-from instrument.protocols import KneeProtocol
+from instrument.kinds.knee import KneeProtocol
 from instrument.recording import read_trial
 from instrument.runner import ESTOP_RESENDS, SafetyLimits, TrialRunner
 from instrument.sources import SimulatedSource
