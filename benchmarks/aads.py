@@ -24,7 +24,7 @@ from analysis.aads.model import load_jig_model
 from analysis.aads.pipeline import analyze_trial
 from analysis.aads.stiffness import line_fit
 from drivers.simulation.aads_jig import AfoProperties
-from instrument.simulate import synthesize_aads_trial
+from instrument.sim.simulate import synthesize_aads_trial
 
 
 def run(quick: bool = False) -> dict[str, Any]:

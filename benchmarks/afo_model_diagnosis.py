@@ -32,7 +32,7 @@ CASES = ("none", "hinge_friction", "shell_compliance", "both", "axis_misalignmen
 
 def _trials(afo: Any, seed: int, angle_scale: float) -> list[AfoTrialData]:
     from analysis.aads import analyze_trial, load_jig_model
-    from instrument.simulate import synthesize_aads_trial
+    from instrument.sim.simulate import synthesize_aads_trial
 
     model = load_jig_model()
     out = []

@@ -1,6 +1,6 @@
 """Cohort analysis on Dask: scaling with workers, the engine's overhead, and accuracy against a simulated study's truth.
 
-A simulated study (``instrument.study``: subjects with drawn anthropometrics and muscle
+A simulated study (``instrument.sim.study``: subjects with drawn anthropometrics and muscle
 parameters; six sweeps each at the protocol's 5°/s, recorded through the drivers into a store)
 is fitted with ``bootstrap`` refits per subject:
 
@@ -25,9 +25,9 @@ import time
 from pathlib import Path
 from typing import Any
 
-from instrument.cohort import MemoryResults, StudySubject, run_cohort, study_from_store
+from instrument.offline.cohort import MemoryResults, StudySubject, run_cohort, study_from_store
+from instrument.sim.study import record_study
 from instrument.store import SessionStore
-from instrument.study import record_study
 
 
 def _plain_loop(study: list[StudySubject], bootstrap: int, intervals: int) -> tuple[float, int]:

@@ -25,11 +25,11 @@ os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
 def _stream_and_measure(seconds: float) -> dict[str, Any]:
     from PySide6 import QtCore, QtWidgets
 
+    from drivers import open_device
     from drivers.simulation.lab import LabConfig, SimulatedLab
-    from instrument.acquisition import NOMINAL_RATES_HZ, AcquisitionEngine
     from instrument.gui.window import REFRESH_HZ, MainWindow
-    from instrument.simulate import OPENERS
-    from instrument.sources import SimulatedSource
+    from instrument.live.acquisition import NOMINAL_RATES_HZ, AcquisitionEngine
+    from instrument.sim.source import SimulatedSource
     from instrument.store import SessionStore
 
     app = QtWidgets.QApplication.instance() or QtWidgets.QApplication([])
@@ -37,7 +37,7 @@ def _stream_and_measure(seconds: float) -> dict[str, Any]:
     store = SessionStore(tmp / "store")
     lab = SimulatedLab(LabConfig())
     names = ("force_plate", "dynamometer", "torque_sensor", "mocap")
-    engine = AcquisitionEngine({n: OPENERS[n](lab.urls[n]) for n in names},
+    engine = AcquisitionEngine({n: open_device(n, lab.urls[n]) for n in names},
                                nominal_rates_hz={n: NOMINAL_RATES_HZ[n] for n in names})
     engine.open()
     engine.start()
@@ -80,8 +80,8 @@ def _stream_and_measure(seconds: float) -> dict[str, Any]:
 def _estop_latency(repeats: int) -> list[float]:
     from drivers.dynamometer.protocol import State
     from instrument.kinds.knee import KneeProtocol
-    from instrument.runner import TrialRunner
-    from instrument.sources import SimulatedSource
+    from instrument.live.runner import TrialRunner
+    from instrument.sim.source import SimulatedSource
     from instrument.store import SessionStore, Subject
 
     tmp = Path(tempfile.mkdtemp())

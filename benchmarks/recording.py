@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from drivers.blocks import DynamometerBlock, ForcePlateBlock, MarkerBlock, TorqueBlock
-from instrument.recording import DeviceSpec, TrialWriter, read_trial, recover_trial_file
+from instrument.live.recording import DeviceSpec, TrialWriter, read_trial, recover_trial_file
 
 RATES = {"force_plate": (1000, 16), "mocap": (100, 2), "dynamometer": (100, 2), "torque_sensor": (400, 4)}
 
@@ -83,7 +83,7 @@ KILL_SCRIPT = textwrap.dedent("""
     import sys, time, numpy as np
     sys.path.insert(0, {root!r})
     from benchmarks.recording import _layouts, _block, RATES
-    from instrument.recording import TrialWriter
+    from instrument.live.recording import TrialWriter
     specs = _layouts(); rng = np.random.default_rng(1)
     w = TrialWriter({path!r}, specs, {{}})
     counters = {{n: 0 for n in specs}}

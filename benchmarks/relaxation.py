@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from drivers.simulation.seated_leg import Burst, SeatedLeg
-from instrument.relaxation import RelaxationMonitor
+from instrument.live.relaxation import RelaxationMonitor
 
 RATE_HZ = 100.0
 NOISE_NM = 0.05

@@ -28,9 +28,9 @@ import numpy as np
 
 from drivers.dynamometer.protocol import WATCHDOG_TIMEOUT_S
 from instrument.kinds.knee import KneeProtocol
-from instrument.recording import read_trial
-from instrument.runner import SafetyLimits, TrialRunner
-from instrument.sources import SimulatedSource
+from instrument.live.recording import read_trial
+from instrument.live.runner import SafetyLimits, TrialRunner
+from instrument.sim.source import SimulatedSource
 from instrument.store import SessionStore, Subject
 
 SPEED_DEG_S = 20.0

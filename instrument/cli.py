@@ -151,7 +151,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def _tables(specs: list[str], store_path: Path | None) -> tuple[list, list[dict]]:  # noqa: ANN001
     """Trial tables (with the subject) and the recorded metadata (empty for CSVs) of store ids, .h5 files or CSVs."""
-    from .loading import load_trials
+    from .offline.loading import load_trials
 
     needs_store = any(s.isdigit() and not Path(s).exists() for s in specs)
     loaded = load_trials(specs, _store(store_path, read_only=True) if needs_store else None)
@@ -161,8 +161,7 @@ def _tables(specs: list[str], store_path: Path | None) -> tuple[list, list[dict]
 def _remember(args: argparse.Namespace, kind: str, settings: dict, compute: Callable[[], dict]) -> dict:
     """``compute()``'s payload (``text``, ``json``, ``files``, ``exit_code``), kept in the store when every
     trial is a store id, and read back from it when the same trials and settings were analysed before."""
-    from .results import remembered
-    from .store import file_sha256
+    from .store import file_sha256, remembered
 
     if getattr(args, "model", None):
         settings = {**settings, "model_sha256": file_sha256(Path(args.model))}
@@ -209,7 +208,7 @@ def cmd_analyze_replica(args: argparse.Namespace) -> int:
 def cmd_analyze_cohort(args: argparse.Namespace) -> int:
     from analysis.pmp.cohort_report import text
 
-    from .cohort import analyze_cohort, default_every, engine_account, progress_printer
+    from .offline.cohort import analyze_cohort, default_every, engine_account, progress_printer
     from .store import SessionStore
 
     if args.bootstrap < 2:
@@ -265,7 +264,7 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
     from analysis.diagnosis import diagnose, from_table, write_diagnosis_plot
     from analysis.trial_csv import read_trial_csv
 
-    from .loading import load_trials
+    from .offline.loading import load_trials
 
     spec = str(args.file)
 
@@ -305,7 +304,7 @@ def cmd_analyze_afo(args: argparse.Namespace) -> int:
     from analysis.aads.experiment import write_report
     from analysis.aads.model import load_jig_model
 
-    from .afo import afo_model_diagnosis, analyze_afo, resolve_trials
+    from .offline.afo import afo_model_diagnosis, analyze_afo, resolve_trials
 
     def compute() -> dict:
         model = load_jig_model(args.model)
@@ -342,8 +341,8 @@ def _store(path: Path | None, read_only: bool = False, reading: bool = False):  
 
 
 def cmd_record(args: argparse.Namespace) -> int:
-    from .session import record_trial
-    from .simulate import lab_config_for, simulated_devices, simulation_metadata
+    from .live.session import record_trial
+    from .sim.simulate import lab_config_for, simulated_devices, simulation_metadata
     from .store import Subject
 
     if not args.simulate:
@@ -388,8 +387,8 @@ def cmd_sessions(args: argparse.Namespace) -> int:
 
 
 def cmd_export(args: argparse.Namespace) -> int:
-    from .export import check_export_targets, export_trial
-    from .recording import read_trial
+    from .live.recording import read_trial
+    from .offline.export import check_export_targets, export_trial
 
     store = _store(args.store, reading=True)
     rec = store.trial(args.trial_id)
@@ -413,7 +412,7 @@ def main(argv: list[str] | None = None) -> int:
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING)
     try:
         if args.command == "demo":
-            from .demo import main as demo_main
+            from .sim.demo import main as demo_main
 
             return demo_main(args.seconds, args.out, faults=not args.no_faults, cohort_subjects=args.cohort)
         return {"record": cmd_record, "sessions": cmd_sessions, "export": cmd_export,

@@ -26,9 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from analysis.constants import GRAVITY_M_S2
-
-G = np.array([0.0, 0.0, -GRAVITY_M_S2])  # m/s²
+from .world import GRAVITY_M_S2
 
 
 def _rot_y(theta: np.ndarray) -> np.ndarray:
@@ -150,8 +148,10 @@ class AadsJig:
 
     def __init__(self, afo: AfoProperties | None = None, operator: int | OperatorStyle = 1,
                  geometry: JigGeometry | None = None, seed: int = 0,
-                 plate_origin_m: tuple[float, float, float] = (0.0, 0.0, -0.040)) -> None:
+                 plate_origin_m: tuple[float, float, float] = (0.0, 0.0, -0.040),
+                 gravity_m_s2: float = GRAVITY_M_S2) -> None:
         self.afo = afo or AfoProperties()
+        self.gravity_m_s2 = gravity_m_s2
         self.geometry = geometry or JigGeometry()
         self.style = OPERATORS[operator] if isinstance(operator, int) else operator
         self.rng = np.random.default_rng(seed)
@@ -228,18 +228,19 @@ class AadsJig:
         f_lat = (s.lateral_force_n * wave[:, 2])[:, None] * e_y
         # hinge (about +y, through A): I_A·α = τ_op + τ_gravity − τ_afo
         i_a = g.shank_inertia_kgm2 + m_s * float(np.dot(g.shank_com_m, g.shank_com_m))
-        tau_grav = np.cross(com_s, m_s * G)[:, 1]
+        gravity = np.array([0.0, 0.0, -self.gravity_m_s2])  # m/s²
+        tau_grav = np.cross(com_s, m_s * gravity)[:, 1]
         tau_op = i_a * phi_dd - tau_grav + tau
         f_perp = (tau_op / lp)[:, None] * e_perp
         f_op = f_perp + f_axial + f_lat
         # whole-jig balance: F_plate + F_op + Σ m g = Σ m a (foot is still)
-        force = m_s * acc_s - f_op - (m_s + m_f) * G
+        force = m_s * acc_s - f_op - (m_s + m_f) * gravity
         O = self.plate_origin_m
         r_s = A + com_s - O
         r_f = A + np.asarray(g.foot_com_m) - O
         r_p = A + top - O
         dL = np.cross(r_s, m_s * acc_s) + (g.shank_inertia_kgm2 * phi_dd)[:, None] * e_y
-        moment = dL - (np.cross(r_p, f_op) + m_op) - np.cross(r_s, m_s * G) - np.cross(r_f, m_f * G)[None, :]
+        moment = dL - (np.cross(r_p, f_op) + m_op) - np.cross(r_s, m_s * gravity) - np.cross(r_f, m_f * gravity)[None, :]
         markers = {name: np.broadcast_to(A + np.asarray(p), (t.size, 3)).copy() for name, p in g.foot_markers.items()}
         for name, p in g.shank_markers.items():
             markers[name] = A + np.einsum("nij,j->ni", R, np.asarray(p))

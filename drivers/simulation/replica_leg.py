@@ -25,9 +25,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from analysis.constants import GRAVITY_M_S2
-
-G = GRAVITY_M_S2
+from .world import GRAVITY_M_S2
 
 
 @dataclass(frozen=True)
@@ -84,6 +82,7 @@ class ReplicaLeg:
     hold_angles_deg: tuple[float, ...] = tuple(float(a) for a in range(0, 90, 8))
     hold_s: float = 2.0
     move_speed_deg_s: float = 16.0
+    gravity_m_s2: float = GRAVITY_M_S2
 
     def knee_deg(self, t_s: np.ndarray) -> np.ndarray:
         """Knee flexion (deg) at times ``t_s``: holds and ramps, repeating."""
@@ -98,7 +97,7 @@ class ReplicaLeg:
         """Torque the leg exerts against flexion at the sensor (N·m)."""
         th = np.deg2rad(np.asarray(knee_deg, dtype=float))
         spring = sum(s.torque_nm(th) for s in self.springs)
-        return spring - self.shank_mass_kg * G * self.shank_com_m * np.cos(th)
+        return spring - self.shank_mass_kg * self.gravity_m_s2 * self.shank_com_m * np.cos(th)
 
     def speed_rpm(self, t_s: np.ndarray) -> np.ndarray:
         """Shaft speed (rpm) at times ``t_s``."""

@@ -19,9 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from analysis.constants import GRAVITY_M_S2
-
-G = GRAVITY_M_S2
+from .world import GRAVITY_M_S2
 
 
 def riener_knee_flexion_moment_nm(hip_deg: float, knee_deg: np.ndarray, ankle_df_deg: float) -> np.ndarray:
@@ -67,6 +65,7 @@ class SeatedLeg:
     arm_mass_kg: float = 1.8
     arm_com_m: float = 0.22
     damping_nm_s_per_rad: float = 0.3
+    gravity_m_s2: float = GRAVITY_M_S2
     bursts: list[Burst] = field(default_factory=list)
     #: the elastic moment as a table (position deg ascending, N·m toward positive angles) in place
     #: of Riener & Edrich: e.g. a muscle model with a simulated subject's own parameters
@@ -104,13 +103,13 @@ class SeatedLeg:
         th = np.deg2rad(np.asarray(position_deg, dtype=float))
         if self.joint == "knee":
             # shank horizontal at 0° flexion, hanging at 90°: gravity pulls toward flexion
-            limb = (self.shank_mass_kg * self.shank_com_m + self.foot_mass_kg * self.shank_length_m) * G * np.cos(th)
-            arm = self.arm_mass_kg * self.arm_com_m * G * np.cos(th)
+            limb = (self.shank_mass_kg * self.shank_com_m + self.foot_mass_kg * self.shank_length_m) * self.gravity_m_s2 * np.cos(th)
+            arm = self.arm_mass_kg * self.arm_com_m * self.gravity_m_s2 * np.cos(th)
         else:
             # foot elevation above horizontal = dorsiflexion + 90° − knee flexion; gravity plantarflexes
             elev = th + np.deg2rad(90.0 - self.knee_flexion_deg)
-            limb = -self.foot_mass_kg * self.foot_com_m * G * np.cos(elev)
-            arm = -self.arm_mass_kg * self.arm_com_m * G * np.cos(elev)
+            limb = -self.foot_mass_kg * self.foot_com_m * self.gravity_m_s2 * np.cos(elev)
+            arm = -self.arm_mass_kg * self.arm_com_m * self.gravity_m_s2 * np.cos(elev)
         return limb + (arm if include_arm else 0.0)
 
     def shaft_torque_nm(self, t_s: np.ndarray, position_deg: np.ndarray, velocity_deg_s: np.ndarray,

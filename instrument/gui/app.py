@@ -5,7 +5,8 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from ..sources import HardwareSource, SimulatedSource
+from ..live.sources import HardwareSource
+from ..sim.source import SimulatedSource
 from ..store import SessionStore, default_store_dir
 
 

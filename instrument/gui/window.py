@@ -19,10 +19,10 @@ from analysis.aads.model import default_jig_model
 from analysis.trial_csv import SUBJECT_RANGES
 
 from .. import kinds
-from ..acquisition import AcquisitionEngine, device_health_text
-from ..analyses import analyse_set
 from ..kinds.base import Curves, Parameter, TrialKind, TrialProtocol
-from ..runner import Checklist, SafetyLimits, TrialRunner, checklist_for
+from ..live.acquisition import AcquisitionEngine, device_health_text
+from ..live.runner import Checklist, SafetyLimits, TrialRunner, checklist_for
+from ..offline.analyses import analyse_set
 from ..store import SessionStore, Subject
 
 REFRESH_HZ = 30.0

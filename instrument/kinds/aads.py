@@ -26,7 +26,7 @@ from drivers import StreamingDevice
 from drivers.simulation.aads_jig import AfoProperties
 
 from ..errors import InstrumentError, ProtocolError
-from ..motion import motion_trial
+from ..live.motion import motion_trial
 from .base import AFO_STIFFNESS, Action, Curves, LiveView, Parameter, TrialKind, TrialProtocol, wait_or_stop
 
 #: the AADS springs of the dissertation (N/m), numbered as in Table 2.1

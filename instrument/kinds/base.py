@@ -24,7 +24,7 @@ from analysis.diagnosis import diagnose, from_table
 from drivers import StreamingDevice
 
 from ..errors import ExportError, ProtocolError
-from ..relaxation import LIVE_DETECTION_FLOOR_NM
+from ..live.relaxation import LIVE_DETECTION_FLOOR_NM
 
 #: telemetry periods recorded after the halt, so the trial shows the arm at rest
 HALT_RECORD_PERIODS = 10

@@ -16,7 +16,7 @@ from analysis.aads.stiffness import line_fit
 from analysis.errors import DataFileError, InputError
 from analysis.motion import MotionTrial
 from drivers.simulation.aads_jig import AfoProperties, OperatorStyle
-from instrument.simulate import synthesize_aads_trial
+from instrument.sim.simulate import synthesize_aads_trial
 
 MODEL = load_jig_model()
 #: the AFO with nothing the model leaves out: no hinge friction, a rigid shell

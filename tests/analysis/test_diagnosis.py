@@ -104,7 +104,7 @@ def test_the_seeds_own_case_explains_table_2_1() -> None:
     from analysis.aads import analyze_trial, load_jig_model
     from analysis.diagnosis.aads_case import explain_stiffness_error
     from drivers.simulation.aads_jig import AfoProperties
-    from instrument.simulate import synthesize_aads_trial
+    from instrument.sim.simulate import synthesize_aads_trial
 
     rng = np.random.default_rng(2026)
     afo = AfoProperties(hinge_friction_nm=float(rng.uniform(0.1, 0.4)), hinge_friction_coeff=float(rng.uniform(0.04, 0.1)),

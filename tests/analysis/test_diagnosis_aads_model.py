@@ -13,7 +13,7 @@ from analysis.errors import InputError
 
 def _trials(afo: object) -> list[AfoTrialData]:
     from analysis.aads import analyze_trial, load_jig_model
-    from instrument.simulate import synthesize_aads_trial
+    from instrument.sim.simulate import synthesize_aads_trial
 
     model = load_jig_model()
     out = []

@@ -10,11 +10,11 @@ import numpy as np
 
 from analysis.timebase import align, resample
 from drivers.simulation.faults import FaultConfig
-from instrument.acquisition import RingBuffer
 from instrument.kinds.aads import AadsProtocol
-from instrument.recording import read_trial
-from instrument.session import record_trial
-from instrument.simulate import lab_config_for, simulated_devices
+from instrument.live.acquisition import RingBuffer
+from instrument.live.recording import read_trial
+from instrument.live.session import record_trial
+from instrument.sim.simulate import lab_config_for, simulated_devices
 from instrument.store import SessionStore, Subject
 
 
@@ -76,7 +76,7 @@ def test_device_vanishing_mid_trial_keeps_the_data_and_marks_the_trial(tmp_path:
 
 def test_the_health_line_tells_unanswered_polls_from_bad_frames() -> None:
     from drivers import DeviceStats
-    from instrument.acquisition import device_health_text
+    from instrument.live.acquisition import device_health_text
 
     st = DeviceStats(samples=101, gaps=2, lost_samples=3, first_time_s=0.0, last_time_s=1.0)
     assert device_health_text("torque_sensor", "connected", st) == "torque_sensor: connected, 100 Hz, 2 gaps, 3 lost"

@@ -12,9 +12,9 @@ from analysis.c3d import write_c3d
 from drivers.simulation.aads_jig import AfoProperties
 from instrument.cli import main
 from instrument.kinds.aads import AadsProtocol
-from instrument.recording import read_trial
-from instrument.session import record_trial
-from instrument.simulate import simulated_devices, simulation_metadata, synthesize_aads_trial
+from instrument.live.recording import read_trial
+from instrument.live.session import record_trial
+from instrument.sim.simulate import simulated_devices, simulation_metadata, synthesize_aads_trial
 from instrument.store import SessionStore, Subject
 
 IDEAL = AfoProperties(hinge_friction_nm=0.0, hinge_friction_coeff=0.0, shell_stiffness_nm_per_deg=1e9)

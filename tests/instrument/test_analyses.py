@@ -6,11 +6,11 @@ from pathlib import Path
 
 import pytest
 
-from instrument.analyses import analyse_set
 from instrument.kinds.knee import KneeProtocol
-from instrument.lab_day import SUBJECT
-from instrument.session import record_trial
-from instrument.simulate import lab_config_for, simulated_devices
+from instrument.live.session import record_trial
+from instrument.offline.analyses import analyse_set
+from instrument.sim.lab_day import SUBJECT
+from instrument.sim.simulate import lab_config_for, simulated_devices
 from instrument.store import SessionStore
 
 
@@ -40,7 +40,7 @@ def test_an_activation_the_live_check_let_through_is_explained_not_contradicted(
     from analysis.diagnosis import diagnose
     from benchmarks.diagnosis import as_trial
     from benchmarks.diagnosis_truth import generate
-    from instrument.analyses import live_check_agreement
+    from instrument.offline.analyses import live_check_agreement
 
     g = generate("knee", ("activation_burst",), 1000)  # independent generator: Riener & Edrich moments
     d = diagnose(as_trial(g))

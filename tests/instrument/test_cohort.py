@@ -16,7 +16,7 @@ import pytest
 from analysis.pmp.estimator import PmpTrial, Subject
 from analysis.pmp.muscles import LegMuscles
 from instrument.cli import main
-from instrument.cohort import KIND_BOOTSTRAP, KIND_FIT, StudySubject, run_cohort
+from instrument.offline.cohort import KIND_BOOTSTRAP, KIND_FIT, StudySubject, run_cohort
 from instrument.store import SessionStore
 
 pytestmark = pytest.mark.timeout(600)
@@ -159,11 +159,11 @@ def test_the_same_run_goes_to_a_lab_cluster_by_its_scheduler_address(tmp_path: P
 
 
 def test_a_subject_without_anthropometrics_is_left_out_and_said_so(tmp_path: Path) -> None:
-    from instrument.cohort import study_from_store
     from instrument.errors import InstrumentError
     from instrument.kinds.knee import KneeProtocol
-    from instrument.session import record_trial
-    from instrument.simulate import simulated_devices
+    from instrument.live.session import record_trial
+    from instrument.offline.cohort import study_from_store
+    from instrument.sim.simulate import simulated_devices
     from instrument.store import Subject
 
     store = SessionStore(tmp_path)

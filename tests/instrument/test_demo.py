@@ -99,7 +99,7 @@ def test_demo_records_a_lab_day_into_a_store(demo_run: tuple[Path, str]) -> None
 
 
 def test_the_loader_gives_store_trials_their_subject_and_the_index_verdict(demo_run: tuple[Path, str]) -> None:
-    from instrument.loading import load_trials, records_as_loaded
+    from instrument.offline.loading import load_trials, records_as_loaded
     from instrument.store import SessionStore
 
     store = SessionStore(demo_run[0] / "store", read_only=True)

@@ -13,12 +13,12 @@ from analysis.motion import MotionTrial
 from analysis.sto import read_sto, write_sto
 from analysis.trial_csv import TrialTable, read_trial_csv, write_trial_csv
 from instrument import kinds
-from instrument.export import export_trial
 from instrument.kinds.aads import AadsProtocol
 from instrument.kinds.knee import KneeProtocol
-from instrument.recording import read_trial
-from instrument.session import record_trial
-from instrument.simulate import simulated_devices, simulation_metadata
+from instrument.live.recording import read_trial
+from instrument.live.session import record_trial
+from instrument.offline.export import export_trial
+from instrument.sim.simulate import simulated_devices, simulation_metadata
 from instrument.store import SessionStore, Subject
 
 
@@ -139,9 +139,9 @@ def test_recorded_trials_export_with_the_documented_conventions(tmp_path: Path) 
 
 def _replica_table(tmp_path: Path, name: str) -> TrialTable:
     """One seeded replica trial (0.3 s holds) recorded through the Modbus driver and exported."""
-    from instrument.export import trial_table
     from instrument.kinds.replica import ReplicaProtocol
-    from instrument.simulate import lab_config_for
+    from instrument.offline.export import trial_table
+    from instrument.sim.simulate import lab_config_for
 
     store = SessionStore(tmp_path / name)
     store.add_subject(Subject("S01", mass_kg=75.0))

@@ -13,8 +13,8 @@ from PySide6 import QtCore, QtGui  # noqa: E402
 from drivers.dynamometer.protocol import State  # noqa: E402
 from instrument import kinds  # noqa: E402
 from instrument.gui.window import MainWindow  # noqa: E402
-from instrument.recording import read_trial  # noqa: E402
-from instrument.sources import SimulatedSource  # noqa: E402
+from instrument.live.recording import read_trial  # noqa: E402
+from instrument.sim.source import SimulatedSource  # noqa: E402
 from instrument.store import SessionStore  # noqa: E402
 
 

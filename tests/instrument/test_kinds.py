@@ -14,12 +14,12 @@ from analysis.diagnosis import diagnose, from_table
 from instrument import kinds
 from instrument.cli import build_parser
 from instrument.errors import ProtocolError
-from instrument.export import trial_table
 from instrument.kinds.base import TrialKind
 from instrument.kinds.knee_return import KneeReturnProtocol
-from instrument.recording import read_trial
-from instrument.session import record_trial
-from instrument.simulate import lab_config_for, simulated_devices, simulation_metadata
+from instrument.live.recording import read_trial
+from instrument.live.session import record_trial
+from instrument.offline.export import trial_table
+from instrument.sim.simulate import lab_config_for, simulated_devices, simulation_metadata
 from instrument.store import SessionStore, Subject
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from instrument.errors import InstrumentError
-from instrument.loading import load_trials
+from instrument.offline.loading import load_trials
 
 
 def test_a_trial_id_needs_a_store_and_a_csv_is_a_table(tmp_path: Path) -> None:

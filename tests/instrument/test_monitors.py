@@ -9,7 +9,7 @@ from drivers.dynamometer.protocol import State
 from instrument import kinds
 from instrument.kinds.ankle import AnkleProtocol
 from instrument.kinds.knee import KneeProtocol
-from instrument.monitors import LimitMonitor, RelaxationWatch, SafetyLimits, monitors_for
+from instrument.live.monitors import LimitMonitor, RelaxationWatch, SafetyLimits, monitors_for
 
 
 def test_the_envelope_names_the_first_breach() -> None:

@@ -8,7 +8,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from instrument.motion import motion_from_channels
+from instrument.live.motion import motion_from_channels
 
 MOCAP_HZ, PLATE_HZ = 100, 1000
 

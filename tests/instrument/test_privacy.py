@@ -14,9 +14,9 @@ from hypothesis import strategies as st
 from instrument.cli import main as cli_main
 from instrument.errors import SubjectCodeError
 from instrument.kinds.knee import KneeProtocol
-from instrument.recording import read_trial
-from instrument.session import record_trial
-from instrument.simulate import simulated_devices
+from instrument.live.recording import read_trial
+from instrument.live.session import record_trial
+from instrument.sim.simulate import simulated_devices
 from instrument.store import SessionStore, Subject, check_subject_code
 
 

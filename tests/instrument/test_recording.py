@@ -16,7 +16,7 @@ import pytest
 
 from drivers.blocks import DynamometerBlock, ForcePlateBlock
 from instrument.errors import CorruptFileError
-from instrument.recording import DeviceSpec, TrialWriter, read_trial, recover_trial_file
+from instrument.live.recording import DeviceSpec, TrialWriter, read_trial, recover_trial_file
 from instrument.store import SessionStore, Subject
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -50,7 +50,7 @@ WRITER_SCRIPT = textwrap.dedent("""
     import sys, time, numpy as np
     sys.path.insert(0, {root!r})
     from instrument.store import SessionStore, Subject
-    from instrument.recording import TrialWriter, DeviceSpec
+    from instrument.live.recording import TrialWriter, DeviceSpec
     from drivers.blocks import DynamometerBlock
     store = SessionStore({store!r})
     store.add_subject(Subject("S01"))
@@ -97,7 +97,7 @@ DISK_FULL_SCRIPT = textwrap.dedent("""
     sys.path.insert(0, {root!r})
     signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
     from instrument.store import SessionStore
-    from instrument.recording import TrialWriter, DeviceSpec
+    from instrument.live.recording import TrialWriter, DeviceSpec
     from instrument.errors import DiskFullError
     from drivers.blocks import ForcePlateBlock
     store = SessionStore({store!r})

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from benchmarks.relaxation import trial
-from instrument.relaxation import RelaxationMonitor
+from instrument.live.relaxation import RelaxationMonitor
 
 
 def run(t: np.ndarray, angle: np.ndarray, torque: np.ndarray) -> RelaxationMonitor:

@@ -11,9 +11,10 @@ from instrument.errors import ProtocolError
 from instrument.kinds.ankle import AnkleProtocol
 from instrument.kinds.knee import KneeProtocol
 from instrument.kinds.replica import ReplicaProtocol
-from instrument.recording import read_trial
-from instrument.runner import Checklist, SafetyLimits, TrialRunner, checklist_for
-from instrument.sources import HardwareSource, SimulatedSource
+from instrument.live.recording import read_trial
+from instrument.live.runner import Checklist, SafetyLimits, TrialRunner, checklist_for
+from instrument.live.sources import HardwareSource
+from instrument.sim.source import SimulatedSource
 from instrument.store import SessionStore, Subject
 
 

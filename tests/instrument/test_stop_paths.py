@@ -14,9 +14,9 @@ import pytest
 
 from drivers.dynamometer.protocol import State
 from instrument.kinds.knee import KneeProtocol
-from instrument.recording import read_trial
-from instrument.runner import ESTOP_RESENDS, SafetyLimits, TrialRunner
-from instrument.sources import SimulatedSource
+from instrument.live.recording import read_trial
+from instrument.live.runner import ESTOP_RESENDS, SafetyLimits, TrialRunner
+from instrument.sim.source import SimulatedSource
 from instrument.store import SessionStore, Subject
 
 

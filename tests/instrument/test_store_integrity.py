@@ -14,7 +14,7 @@ import pytest
 from drivers.blocks import ForcePlateBlock
 from instrument.cli import main as cli_main
 from instrument.errors import StoreError
-from instrument.recording import DeviceSpec, TrialWriter, read_trial
+from instrument.live.recording import DeviceSpec, TrialWriter, read_trial
 from instrument.store import SessionStore, Subject, TrialLock
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -50,7 +50,7 @@ KILLED_WRITER = textwrap.dedent("""
     import os, sys, numpy as np
     sys.path.insert(0, {root!r})
     from instrument.store import SessionStore
-    from instrument.recording import TrialWriter, DeviceSpec
+    from instrument.live.recording import TrialWriter, DeviceSpec
     from drivers.blocks import ForcePlateBlock
     store = SessionStore({store!r})
     tid, path = store.begin_trial(store.new_session("S01"), "aads", {{}})

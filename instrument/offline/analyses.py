@@ -9,12 +9,11 @@ from __future__ import annotations
 
 from typing import Any
 
-from . import kinds
-from .errors import StoreReadOnlyError
-from .kinds.base import TrialProtocol, live_check_agreement
+from .. import kinds
+from ..errors import StoreReadOnlyError
+from ..kinds.base import TrialProtocol, live_check_agreement
+from ..store import SessionStore, remembered
 from .loading import records_as_loaded
-from .results import remembered
-from .store import SessionStore
 
 
 def analyse_set(protocol: TrialProtocol, store_root: Any, trial_id: int, subject: dict[str, float]) -> str:

@@ -20,13 +20,13 @@ import numpy as np
 
 from drivers import Dynamometer, StreamingDevice
 
+from ..errors import ProtocolError
+from ..kinds.base import TrialProtocol
+from ..store import SessionStore
 from .acquisition import AcquisitionEngine
-from .errors import ProtocolError
-from .kinds.base import TrialProtocol
 from .monitors import AadsLoopWatch, SafetyLimits, monitors_for
 from .relaxation import ActivationAlarm, RelaxationMonitor
 from .session import TrialOutcome, record_trial
-from .store import SessionStore
 
 
 def checklist_for(protocol: TrialProtocol) -> list[str]:
@@ -89,7 +89,7 @@ class TrialRunner:
         if hasattr(protocol, "max_torque_nm"):  # the device's own ceiling: the stricter of the two
             protocol.max_torque_nm = min(protocol.max_torque_nm, self.limits.max_torque_nm)
         self.engine = AcquisitionEngine(self.devices, ring_seconds=120.0)
-        # the live monitors (instrument.monitors) find; this runner acts on what they find
+        # the live monitors (instrument.live.monitors) find; this runner acts on what they find
         self.limit_monitor, self.relaxation_watch = monitors_for(protocol, self.limits, monitor)
         self.monitor = self.relaxation_watch.monitor if self.relaxation_watch is not None else None
         self.aads_watch = AadsLoopWatch(protocol, {}) if protocol.live_aads_loop else None
@@ -322,7 +322,7 @@ class TrialRunner:
                     self._mark("activation", time_s=a.time_s, angle_deg=a.angle_deg, excess_nm=a.excess_nm)
 
     def _update_aads(self) -> None:
-        """The loop so far (:class:`instrument.monitors.AadsLoopWatch`) into the live state."""
+        """The loop so far (:class:`instrument.live.monitors.AadsLoopWatch`) into the live state."""
         if self.aads_watch is None:
             return
         if {"mocap", "force_plate"} <= set(self.devices):  # as the devices describe themselves once open

@@ -20,12 +20,12 @@ from typing import Any
 
 import numpy as np
 
-from .kinds.ankle import AnkleProtocol
-from .kinds.isokinetic import IsokineticProtocol
-from .kinds.knee import KneeProtocol
-from .session import record_trial
+from ..kinds.ankle import AnkleProtocol
+from ..kinds.isokinetic import IsokineticProtocol
+from ..kinds.knee import KneeProtocol
+from ..live.session import record_trial
+from ..store import SessionStore, Subject
 from .simulate import lab_config_for, simulated_devices, simulation_metadata
-from .store import SessionStore, Subject
 
 #: a sweep starts where the subject's passive moment (plus limb weight) is below this (N·m)
 SWEEP_TORQUE_LIMIT_NM = 100.0
@@ -104,7 +104,7 @@ def record_study(store_dir: Path, subjects: int, *, seed: int = 0, speed_deg_s: 
                  progress: Any = print) -> SessionStore:
     """Record ``subjects`` simulated subjects' knee and ankle sweeps into the store at ``store_dir``.
 
-    :raises RecordingError, StoreError: as :func:`instrument.session.record_trial`.
+    :raises RecordingError, StoreError: as :func:`instrument.live.session.record_trial`.
     """
     store = SessionStore(store_dir)
     jobs: list[tuple[Subject, dict[str, float], int, IsokineticProtocol]] = []

@@ -36,7 +36,7 @@ import numpy as np
 
 from drivers import StreamingDevice
 
-from .errors import CorruptFileError, DiskFullError, RecordingError
+from ..errors import CorruptFileError, DiskFullError, RecordingError
 
 log = logging.getLogger(__name__)
 

@@ -8,10 +8,10 @@ from pathlib import Path
 from analysis.aads.experiment import AadsExperiment, TrialInput, analyze_experiment
 from analysis.aads.model import JigModel
 
-from .kinds.aads import afo_model_diagnosis, trial_input
+from ..kinds.aads import afo_model_diagnosis, trial_input
+from ..live.recording import read_trial
+from ..store import SessionStore
 from .loading import load_trials
-from .recording import read_trial
-from .store import SessionStore
 
 
 def trial_input_from_file(path: Path) -> TrialInput:
@@ -22,7 +22,7 @@ def trial_input_from_file(path: Path) -> TrialInput:
 def resolve_trials(specs: Sequence[str], store: SessionStore | None, *, spring: int | None = None,
                    spring_n_per_m: float | None = None, model: JigModel | None = None) -> list[TrialInput]:
     """Turn command-line trial names into inputs: a store trial id, an ``.h5`` trial file or a ``.c3d`` file
-    (through :func:`instrument.loading.load_trials`).
+    (through :func:`instrument.offline.loading.load_trials`).
 
     A C3D file carries no experimental factors; ``spring`` (a spring number of the model) or
     ``spring_n_per_m`` supplies the spring for its theoretical stiffness.

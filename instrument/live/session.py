@@ -15,12 +15,12 @@ import numpy as np
 
 from drivers import ConnectionLostError, StreamingDevice
 
-from . import __version__
+from .. import __version__
+from ..errors import DiskFullError, RecordingError
+from ..kinds.base import TrialProtocol
+from ..store import SessionStore
 from .acquisition import AcquisitionEngine, DeviceReport
-from .errors import DiskFullError, RecordingError
-from .kinds.base import TrialProtocol
 from .recording import TrialWriter
-from .store import SessionStore
 
 log = logging.getLogger(__name__)
 

@@ -18,8 +18,8 @@ from drivers.simulation.faults import FaultConfig
 from drivers.simulation.lab import LabConfig, SimulatedLab
 from drivers.torque import registers
 
-from . import kinds
-from .stream import StreamResult, stream_devices
+from .. import kinds
+from ..live.stream import StreamResult, stream_devices
 
 
 def _progress(line: str) -> None:
@@ -106,9 +106,9 @@ def physics_summary(results: dict[str, StreamResult]) -> dict[str, float]:
 
 def lab_day(out: Path, quick: bool) -> tuple[list[dict[str, Any]], bool]:
     """Record the simulated lab day into ``out/store`` and export one trial of each kind."""
-    from .export import export_trial
+    from ..live.recording import read_trial
+    from ..offline.export import export_trial
     from .lab_day import record_lab_day, summary_rows
-    from .recording import read_trial
 
     store_dir = out / "store"
     if (store_dir / "store.sqlite").exists():
@@ -161,9 +161,9 @@ def afo_experiment(out: Path, store_dir: Path | None = None) -> tuple[dict[str, 
     from analysis.aads.experiment import TrialInput, analyze_experiment, write_report
     from analysis.aads.model import load_jig_model
 
-    from .afo import resolve_trials
+    from ..offline.afo import resolve_trials
+    from ..store import SessionStore
     from .simulate import synthesize_aads_trial
-    from .store import SessionStore
 
     model = load_jig_model()
     print("\nAADS experiment on the simulator: springs 9,910 / 15,600 / 25,200 N/m, 4 operators, 5 trials each "
@@ -237,8 +237,8 @@ def diagnose_recordings(out: Path) -> list[dict[str, Any]]:
     """The demo's last step: diagnose the trials it recorded and exported, and print the findings."""
     from analysis.diagnosis import diagnose, from_table, write_diagnosis_plot
 
-    from .loading import records_as_loaded
-    from .store import SessionStore
+    from ..offline.loading import records_as_loaded
+    from ..store import SessionStore
 
     print("\nDiagnosis of the recorded trials (what the model gets wrong, and why):")
     found = []
@@ -272,9 +272,9 @@ def passive_parameters(out: Path) -> tuple[dict[str, Any], bool]:
     from analysis.pmp.report import analyse, subject_from, text, to_json, trial_from_table, write_plots
     from drivers.simulation.demo_subject import demo_subject
 
-    from .kinds.isokinetic import MODEL_CANDIDATES
-    from .loading import records_as_loaded
-    from .store import SessionStore
+    from ..kinds.isokinetic import MODEL_CANDIDATES
+    from ..offline.loading import records_as_loaded
+    from ..store import SessionStore
 
     store = SessionStore(out / "store", read_only=True)
     tables = [t.table() for t in records_as_loaded(
@@ -321,8 +321,8 @@ def cohort(out: Path, subjects: int = 0, bootstrap: int = 3) -> tuple[dict[str, 
     known muscle parameters, recorded through the drivers and checked against its truth."""
     from analysis.pmp.cohort_report import text
 
-    from .cohort import analyze_cohort, default_every, engine_account, local_client, progress_printer
-    from .store import SessionStore
+    from ..offline.cohort import analyze_cohort, default_every, engine_account, local_client, progress_printer
+    from ..store import SessionStore
     from .study import record_study
 
     if subjects:
@@ -371,9 +371,9 @@ def replica_leg(out: Path) -> tuple[dict[str, Any], bool]:
     from analysis.errors import AnalysisError
     from analysis.pmp.replica import text, to_json
 
-    from .kinds.replica import analyze_replica
-    from .loading import records_as_loaded
-    from .store import SessionStore
+    from ..kinds.replica import analyze_replica
+    from ..offline.loading import records_as_loaded
+    from ..store import SessionStore
 
     store = SessionStore(out / "store", read_only=True)
     trials = records_as_loaded(store, [t for t in store.trials() if t.protocol in kinds.names_feeding(kinds.REPLICA_SPRINGS)
@@ -404,10 +404,10 @@ def operator_drill(out: Path) -> tuple[dict[str, Any], bool]:
 
     from drivers.dynamometer.protocol import State
 
-    from .kinds.knee import KneeProtocol
-    from .runner import TrialRunner
-    from .sources import SimulatedSource
-    from .store import SessionStore, Subject
+    from ..kinds.knee import KneeProtocol
+    from ..live.runner import TrialRunner
+    from ..store import SessionStore, Subject
+    from .source import SimulatedSource
 
     print("\nOperator drill (the GUI's trial runner): 3 N·m activation burst, relaxed repeat, emergency stop ...")
     store = SessionStore(out / "drill_store")
@@ -453,32 +453,10 @@ def operator_drill(out: Path) -> tuple[dict[str, Any], bool]:
         rows["relaxed"]["status"] == "accepted" and rows["estop"]["status"] == "rejected"
     os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
     try:
-        from PySide6 import QtCore, QtWidgets
+        from ..gui.screens import save_screens
 
-        from .gui.window import MainWindow
-
-        def relay(mode: QtCore.QtMsgType, context: QtCore.QMessageLogContext, message: str) -> None:
-            if "propagateSizeHints" not in message:  # the offscreen platform's note on every window
-                print(message, file=sys.stderr)
-
-        previous = QtCore.qInstallMessageHandler(relay)
-        app = QtWidgets.QApplication.instance() or QtWidgets.QApplication([])
-        gstore = SessionStore(out / "gui_store")
-        window = MainWindow(gstore, SimulatedSource())
-        window.resize(1280, 800)
-        window.show()
-        shots = out / "gui"
-        shots.mkdir(exist_ok=True)
-        for i, kind in enumerate(kinds.KINDS):
-            window.protocol_box.setCurrentIndex(i)
-            app.processEvents()
-            window.grab().save(str(shots / f"{i}-{kind.name}.png"))
-        window.close()
-        gstore.close()
-        QtCore.QCoreApplication.processEvents()
-        QtCore.qInstallMessageHandler(previous)
-        rows["gui_screens"] = sorted(p.name for p in shots.glob("*.png"))
-        print(f"  GUI screens (offscreen): {', '.join(rows['gui_screens'])} in {shots}")
+        rows["gui_screens"] = [p.name for p in save_screens(out / "gui_store", out / "gui", SimulatedSource())]
+        print(f"  GUI screens (offscreen): {', '.join(rows['gui_screens'])} in {out / 'gui'}")
     except ImportError as err:  # the GUI is optional for the demo's numbers (no Qt on this machine)
         if err.name is None or not err.name.startswith(("PySide6", "shiboken6", "pyqtgraph")):
             raise  # the product's own import failing is a defect, never "not available"

@@ -28,10 +28,10 @@ from typing import Any, Protocol
 
 from analysis.pmp.cohort import FitTask, bootstrap_trials, coverage, run_fit_task, subject_summary
 
-from . import kinds
-from .errors import InstrumentError
+from .. import kinds
+from ..errors import InstrumentError
+from ..store import SessionStore, TrialRecord, file_sha256
 from .loading import records_as_loaded
-from .store import SessionStore, TrialRecord, file_sha256
 
 log = logging.getLogger(__name__)
 
@@ -297,8 +297,8 @@ def analyze_afo_sets(store: SessionStore) -> dict[str, dict[str, Any]]:
     """Every AFO set's stiffness (Tables 2.1 and 2.2), each remembered in the store like any analysis."""
     from analysis.aads.model import load_jig_model
 
+    from ..store import remembered
     from .afo import analyze_afo, resolve_trials
-    from .results import remembered
 
     model = load_jig_model()
     out = {}

@@ -2,7 +2,7 @@
 
 * :class:`LimitMonitor` — the subject's safety envelope on the dynamometer's telemetry (range of
   motion, speed, torque): a breach is returned as a sentence; the runner stops the arm.
-* :class:`RelaxationWatch` — the relaxation check (:class:`instrument.relaxation.RelaxationMonitor`)
+* :class:`RelaxationWatch` — the relaxation check (:class:`instrument.live.relaxation.RelaxationMonitor`)
   on the steady part of an isokinetic sweep: returns activation alarms; the runner flags them.
 * :class:`AadsLoopWatch` — the AADS torque–angle loop so far, by the analysis's own static
   optimisation: returns the loop and whether it covers the fit window or went past the stop.
@@ -21,7 +21,7 @@ from analysis.aads.model import default_jig_model
 from drivers.dynamometer import SUBJECT_ENVELOPE_DEG, SUBJECT_MAX_SPEED_DEG_S, SUBJECT_MAX_TORQUE_NM
 from drivers.dynamometer.protocol import State
 
-from .kinds.base import TrialProtocol
+from ..kinds.base import TrialProtocol
 from .relaxation import ActivationAlarm, RelaxationMonitor
 
 #: margins beyond the envelope before a reading counts as a breach (encoder and filter overshoot)

@@ -10,18 +10,15 @@ from typing import Any
 import numpy as np
 
 from analysis.motion import MotionTrial, cop_from_moment
-from drivers import StreamingDevice, open_dynamometer, open_force_plate, open_marker_stream, open_torque_sensor
+from drivers import StreamingDevice, open_device
 from drivers.simulation.aads_jig import AadsJig, AfoProperties, OperatorStyle
 from drivers.simulation.demo_subject import shank_length_m as demo_shank_length_m
 from drivers.simulation.faults import FaultConfig
 from drivers.simulation.lab import LabConfig, SimulatedLab
 
-from . import kinds
-from .kinds.aads import AADS_SPRINGS_N_PER_M
-from .kinds.base import TrialProtocol
-
-OPENERS = {"force_plate": open_force_plate, "dynamometer": open_dynamometer,
-           "torque_sensor": open_torque_sensor, "mocap": open_marker_stream}
+from .. import kinds
+from ..kinds.aads import AADS_SPRINGS_N_PER_M
+from ..kinds.base import TrialProtocol
 
 
 def lab_config_for(protocol: TrialProtocol, *, seed: int = 0, faults: FaultConfig | None = None,
@@ -45,7 +42,7 @@ def simulated_devices(protocol: TrialProtocol, config: LabConfig | None = None) 
     # the simulated transmitter answers over a loopback socket from a thread of this process: on a
     # loaded host a 50 ms poll timeout (the real link's) counts scheduler delays as lost polls
     urls = {**lab.urls, "torque_sensor": lab.urls["torque_sensor"] + "&timeout=0.25"}
-    devices = {name: OPENERS[name](urls[name]) for name in protocol.devices}
+    devices = {name: open_device(name, urls[name]) for name in protocol.devices}
     kinds.get(protocol.name).simulated_operator(protocol, lab)
     try:
         yield lab, devices

@@ -10,7 +10,7 @@ import numpy as np
 from analysis.motion import MotionTrial
 from analysis.timebase import resample, uniform_grid
 
-from .errors import RecordingError
+from ..errors import RecordingError
 from .recording import TrialFile
 
 

@@ -1,8 +1,7 @@
-"""Where a trial's devices come from: the simulated lab, or the lab's hardware by URL (Qt-free).
+"""The simulated lab as a device source: one simulated lab per trial, and the people in the room.
 
-A source hands out opened-on-demand drivers for one protocol inside a context; the GUI and the
-CLI hold it for the length of a trial. The simulated source also plays the people in the room:
-it can make the relaxed subject activate a muscle (a burst of known size, for drills and tests).
+The simulated source also plays the subject: it can make the relaxed subject activate a muscle
+(a burst of known size, for drills and tests).
 """
 
 from __future__ import annotations
@@ -17,9 +16,9 @@ from drivers.dynamometer.protocol import State
 from drivers.simulation.lab import SimulatedLab
 from drivers.simulation.seated_leg import Burst
 
-from .errors import ProtocolError
-from .kinds.base import TrialProtocol
-from .simulate import OPENERS, lab_config_for, simulated_devices, simulation_metadata
+from ..errors import ProtocolError
+from ..kinds.base import TrialProtocol
+from .simulate import lab_config_for, simulated_devices, simulation_metadata
 
 
 class SimulatedSource:
@@ -62,30 +61,4 @@ class SimulatedSource:
         dyno.leg.bursts.append(Burst(start_s=start, amplitude_nm=amplitude_nm, duration_s=duration_s))
 
 
-class HardwareSource:
-    """The lab's devices by URL (``force_plate``, ``dynamometer``, ``torque_sensor``, ``mocap``)."""
-
-    simulated = False
-
-    def __init__(self, urls: dict[str, str]) -> None:
-        self.urls = dict(urls)
-        #: a motion-capture stream configured: AADS trials get the live loop; else force-guided
-        self.live_markers = "mocap" in self.urls
-
-    @contextmanager
-    def devices(self, protocol: TrialProtocol) -> Iterator[dict[str, StreamingDevice]]:
-        missing = [n for n in protocol.devices if n not in self.urls]
-        if missing:
-            raise ProtocolError(f"no URL configured for {', '.join(missing)} (needed by {protocol.name})")
-        devices = {n: OPENERS[n](self.urls[n]) for n in protocol.devices}
-        try:
-            yield devices
-        finally:
-            for d in devices.values():
-                d.close()
-
-    def metadata(self) -> dict[str, Any]:
-        return {"simulated": False}
-
-
-__all__ = ["SimulatedSource", "HardwareSource"]
+__all__ = ["SimulatedSource"]

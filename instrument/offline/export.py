@@ -14,9 +14,9 @@ from typing import Any
 from analysis.sto import write_sto
 from analysis.trial_csv import TrialTable, write_trial_csv
 
-from . import kinds
-from .errors import ExportError, ProtocolError
-from .recording import TrialFile
+from .. import kinds
+from ..errors import ExportError, ProtocolError
+from ..live.recording import TrialFile
 
 FORMATS = ("sto", "csv", "c3d")
 

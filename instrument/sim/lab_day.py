@@ -11,14 +11,14 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from .kinds.aads import AadsProtocol
-from .kinds.ankle import AnkleProtocol
-from .kinds.base import TrialProtocol
-from .kinds.knee import KneeProtocol
-from .kinds.replica import ReplicaProtocol
-from .session import TrialOutcome, record_trial
+from ..kinds.aads import AadsProtocol
+from ..kinds.ankle import AnkleProtocol
+from ..kinds.base import TrialProtocol
+from ..kinds.knee import KneeProtocol
+from ..kinds.replica import ReplicaProtocol
+from ..live.session import TrialOutcome, record_trial
+from ..store import SessionStore, Subject
 from .simulate import lab_config_for, simulated_devices, simulation_metadata
-from .store import SessionStore, Subject
 
 SUBJECT = Subject("SIM01", "male", 1.78, 75.0, 0.92, 0.43, 0.40, 0.28, 0.26, 0.52, 0.37)
 

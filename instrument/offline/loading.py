@@ -14,10 +14,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .errors import InstrumentError
+from ..errors import InstrumentError
+from ..kinds.aads import trial_input
+from ..store import SessionStore, TrialRecord
 from .export import trial_table
-from .kinds.aads import trial_input
-from .store import SessionStore, TrialRecord
 
 
 @dataclass
@@ -39,7 +39,7 @@ class LoadedTrial:
     def file(self) -> Any:
         """The instrument trial file (read once)."""
         if self._file is None:
-            from .recording import read_trial
+            from ..live.recording import read_trial
 
             self._file = read_trial(self.path)
         return self._file

@@ -1,0 +1,1 @@
+"""The simulated lab: simulated devices for a protocol, the lab day, the simulated study, the demo."""
