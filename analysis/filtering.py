@@ -10,6 +10,7 @@ filter (fewer than 16 samples) is returned as NaN, never as unfiltered data.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from functools import lru_cache
 
 import numpy as np
@@ -30,8 +31,22 @@ def finite_runs(valid: np.ndarray) -> list[tuple[int, int]]:
 
 
 @lru_cache(maxsize=64)
-def _butter_sos(cutoff_hz: float, rate_hz: float) -> np.ndarray:
-    return signal.butter(2, cutoff_hz, fs=rate_hz, output="sos")
+def _butter_sos(cutoff_hz: float, rate_hz: float) -> tuple[np.ndarray, np.ndarray]:
+    """The filter's sections and their steady-state initial conditions (``sosfilt_zi``), designed once."""
+    sos = signal.butter(2, cutoff_hz, fs=rate_hz, output="sos")
+    return sos, signal.sosfilt_zi(sos)
+
+
+def _sosfiltfilt(sos: np.ndarray, zi: np.ndarray, x: np.ndarray, padlen: int) -> np.ndarray:
+    """``scipy.signal.sosfiltfilt(sos, x, axis=0, padtype="odd", padlen=padlen)`` with its initial
+    conditions designed once (the same operations; what scipy recomputes on every call is not)."""
+    ext = np.concatenate([2 * x[:1] - x[padlen:0:-1], x, 2 * x[-1:] - x[-2:-(padlen + 2):-1]], axis=0) \
+        if padlen > 0 else x
+    z = zi.reshape(zi.shape[0], 2, *([1] * (x.ndim - 1)))
+    y, _ = signal.sosfilt(sos, ext, axis=0, zi=z * ext[:1])
+    y, _ = signal.sosfilt(sos, y[::-1], axis=0, zi=z * y[-1:])
+    y = y[::-1]
+    return y[padlen:-padlen] if padlen > 0 else y
 
 
 def lowpass(x: np.ndarray, rate_hz: float, cutoff_hz: float) -> np.ndarray:
@@ -45,14 +60,45 @@ def lowpass(x: np.ndarray, rate_hz: float, cutoff_hz: float) -> np.ndarray:
     if not 0 < corrected < 0.5 * rate_hz:
         raise InputError(f"low-pass cutoff {cutoff_hz} Hz (corrected {corrected:.2f} Hz) must be in (0, "
                          f"{0.5 * rate_hz:.1f}) Hz at {rate_hz} Hz sampling")
-    sos = _butter_sos(round(corrected, 12), round(float(rate_hz), 12))
+    sos, zi = _butter_sos(round(corrected, 12), round(float(rate_hz), 12))
     flat = x.reshape(x.shape[0], -1)
     out = np.full_like(flat, np.nan)
     valid = np.all(np.isfinite(flat), axis=1)
     for a, b in finite_runs(valid):
         if b - a >= MIN_RUN_SAMPLES:
-            out[a:b] = signal.sosfiltfilt(sos, flat[a:b], axis=0, padlen=min(b - a - 1, 3 * 7))
+            out[a:b] = _sosfiltfilt(sos, zi, flat[a:b], padlen=min(b - a - 1, 3 * 7))
     return out.reshape(x.shape)
+
+
+def _together(signals: list[np.ndarray], each: Callable[[np.ndarray], np.ndarray]) -> list[np.ndarray]:
+    """``each`` (a column-wise operation along axis 0 that splits at NaN rows) over several signals
+    sampled together, in as few calls as their gaps allow: signals whose NaN rows are the same go
+    as one array (each column is processed on its own either way, so the result is the same as
+    one call per signal)."""
+    arrays = [np.asarray(x, dtype=float) for x in signals]
+    groups: dict[bytes, list[int]] = {}
+    for i, x in enumerate(arrays):
+        valid = np.all(np.isfinite(x.reshape(x.shape[0], -1)), axis=1)
+        groups.setdefault(np.packbits(valid).tobytes() + x.shape[0].to_bytes(8, "little"), []).append(i)
+    out: list[np.ndarray] = [np.empty(0)] * len(arrays)
+    for members in groups.values():
+        flat = [arrays[i].reshape(arrays[i].shape[0], -1) for i in members]
+        done = each(np.concatenate(flat, axis=1))
+        at = 0
+        for i, f in zip(members, flat):
+            out[i] = done[:, at:at + f.shape[1]].reshape(arrays[i].shape)
+            at += f.shape[1]
+    return out
+
+
+def lowpass_together(signals: list[np.ndarray], rate_hz: float, cutoff_hz: float) -> list[np.ndarray]:
+    """:func:`lowpass` of several signals sampled together (one filter call per pattern of gaps)."""
+    return _together(signals, lambda x: lowpass(x, rate_hz, cutoff_hz))
+
+
+def derivative_together(signals: list[np.ndarray], dt_s: float) -> list[np.ndarray]:
+    """:func:`derivative` of several signals sampled together (one call per pattern of gaps)."""
+    return _together(signals, lambda x: derivative(x, dt_s))
 
 
 def derivative(x: np.ndarray, dt_s: float) -> np.ndarray:

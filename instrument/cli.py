@@ -7,7 +7,8 @@ import json
 import logging
 import math
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -16,6 +17,8 @@ from drivers.errors import DriverError, LimitViolationError
 from . import kinds
 from .errors import InstrumentError, ProtocolError
 from .kinds.base import Parameter
+from .offline.loading import LoadedTrial, is_store_id, load_trials
+from .store import SessionStore, Subject, default_store_dir, file_sha256, open_store, remembered
 
 
 def _bounded(low: float, high: float, unit: str) -> Callable[[str], float]:
@@ -149,33 +152,31 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _tables(specs: list[str], store_path: Path | None) -> tuple[list, list[dict]]:  # noqa: ANN001
-    """Trial tables (with the subject) and the recorded metadata (empty for CSVs) of store ids, .h5 files or CSVs."""
-    from .offline.loading import load_trials
+@contextmanager
+def _store_for(specs: list[str], path: Path | None) -> Iterator[SessionStore | None]:
+    """The command's one store handle, opened (for reading: read-only where the medium cannot be
+    written) when a trial is named by its store id, and closed when the command ends."""
+    if not any(is_store_id(s) for s in specs):
+        yield None
+        return
+    with _store(path, reading=True) as store:
+        yield store
 
-    needs_store = any(s.isdigit() and not Path(s).exists() for s in specs)
-    loaded = load_trials(specs, _store(store_path, read_only=True) if needs_store else None)
-    return [t.table() for t in loaded], [t.metadata for t in loaded]
 
-
-def _remember(args: argparse.Namespace, kind: str, settings: dict, compute: Callable[[], dict]) -> dict:
-    """``compute()``'s payload (``text``, ``json``, ``files``, ``exit_code``), kept in the store when every
-    trial is a store id, and read back from it when the same trials and settings were analysed before."""
-    from .store import file_sha256, remembered
-
+def _analysed(args: argparse.Namespace, kind: str, settings: dict,
+              compute: Callable[[list[LoadedTrial]], dict]) -> dict:
+    """``compute(trials)``'s payload (``text``, ``json``, ``files``, ``exit_code``) for the trials the
+    command names, each loaded once through one store handle. When every trial is a store trial,
+    the payload is kept in the store and read back when the same trials and settings were analysed before."""
     if getattr(args, "model", None):
         settings = {**settings, "model_sha256": file_sha256(Path(args.model))}
-    if args.store is None or not all(s.isdigit() and not Path(s).exists() for s in args.trials):
-        return compute()
-    store = _store(args.store, reading=True)
-    try:
-        if store.read_only:  # a read-only medium: analyse, keep nothing
-            return compute()
-        records = [store.trial(int(s)) for s in args.trials]
-        payload, read_back = remembered(store, kind, records, settings, compute,
+    with _store_for(args.trials, args.store) as store:
+        loaded = load_trials(args.trials, store)
+        records = [t.record for t in loaded if t.record is not None]
+        if store is None or store.read_only or len(records) != len(loaded):  # a read-only medium: keep nothing
+            return compute(loaded)
+        payload, read_back = remembered(store, kind, records, settings, lambda: compute(loaded),
                                         recompute=bool(getattr(args, "recompute", False)))
-    finally:
-        store.close()
     if read_back:
         print(f"(read back from the store: these trials and settings were analysed before; its files are "
               f"{', '.join(payload.get('files', [])) or 'not kept'}; --recompute runs it again)", file=sys.stderr)
@@ -197,32 +198,28 @@ def cmd_analyze_replica(args: argparse.Namespace) -> int:
 
     from .kinds.replica import analyze_replica
 
-    def compute() -> dict:
-        tables, metas = _tables(args.trials, args.store)
+    def compute(trials: list[LoadedTrial]) -> dict:
+        tables, metas = [t.table() for t in trials], [t.metadata for t in trials]
         result, truth, files = analyze_replica(tables, metas, args.model, args.out)
         return {"json": to_json(result, truth), "text": text(result, truth), "files": [str(f) for f in files]}
 
-    return _show(args, _remember(args, "replica", {}, compute))
+    return _show(args, _analysed(args, "replica", {}, compute))
 
 
 def cmd_analyze_cohort(args: argparse.Namespace) -> int:
     from analysis.pmp.cohort_report import text
 
     from .offline.cohort import analyze_cohort, default_every, engine_account, progress_printer
-    from .store import SessionStore
 
     if args.bootstrap < 2:
         raise InstrumentError("--bootstrap must be at least 2 (an interval needs a spread)")
-    store = SessionStore(args.store)
-    try:
+    with SessionStore(args.store) as store:
         n_subjects = len(args.subjects) if args.subjects else len(store.subjects())
         show = progress_printer(sys.stderr if args.json else sys.stdout,
                                 every=default_every(n_subjects * (1 + args.bootstrap)))
         run, files = analyze_cohort(store, args.out, codes=args.subjects, bootstrap=args.bootstrap,
                                     intervals=args.intervals, seed=args.seed, scheduler=args.scheduler,
                                     workers=args.workers, progress=show)
-    finally:
-        store.close()
     if args.json:
         print(json.dumps({"engine": engine_account(run, len(run.summaries)), "subjects": run.summaries,
                           "afo_sets": {k: v["json"] for k, v in run.afo_sets.items()}}, indent=2, default=float))
@@ -248,8 +245,8 @@ def cmd_analyze_pmp(args: argparse.Namespace) -> int:
         except (OSError, ValueError) as err:
             raise DataFileError(args.subject, f"subject JSON cannot be read: {err}") from err
 
-    def compute() -> dict:
-        tables, _ = _tables(args.trials, args.store)
+    def compute(trials: list[LoadedTrial]) -> dict:
+        tables = [t.table() for t in trials]
         subject_data = given_subject if given_subject is not None else tables[0].sidecar.get("subject") or {}
         report = analyse([trial_from_table(t) for t in tables], subject_from(subject_data), args.intervals,
                          diagnose_model=args.diagnose_model)
@@ -257,31 +254,20 @@ def cmd_analyze_pmp(args: argparse.Namespace) -> int:
         return {"json": to_json(report), "text": text(report), "files": [str(f) for f in files]}
 
     settings = {"intervals": args.intervals, "diagnose_model": args.diagnose_model, "subject": given_subject}
-    return _show(args, _remember(args, "pmp_subject", settings, compute))
+    return _show(args, _analysed(args, "pmp_subject", settings, compute))
 
 
 def cmd_diagnose(args: argparse.Namespace) -> int:
     from analysis.diagnosis import diagnose, from_table, write_diagnosis_plot
-    from analysis.trial_csv import read_trial_csv
 
-    from .offline.loading import load_trials
-
-    spec = str(args.file)
-
-    def compute() -> dict:
-        if spec.isdigit() and not args.file.exists():
-            table = load_trials([spec], _store(args.store, read_only=True))[0].table()
-        elif args.file.suffix.lower() in (".h5", ".hdf5"):
-            table = load_trials([spec], None)[0].table()
-        else:
-            table = read_trial_csv(args.file)
-        result = diagnose(from_table(table, args.kind))
+    def compute(trials: list[LoadedTrial]) -> dict:
+        result = diagnose(from_table(trials[0].table(), args.kind))
         files = [str(write_diagnosis_plot(result, args.plot))] if args.plot else []
         return {"json": result.as_dict(), "text": f"{args.file}:\n{result.text()}", "files": files}
 
     # a store trial's diagnosis is kept with its inputs, like every analysis (read back on a re-run)
-    args.trials = [spec]
-    return _show(args, _remember(args, "diagnosis", {"kind": args.kind}, compute))
+    args.trials = [str(args.file)]
+    return _show(args, _analysed(args, "diagnosis", {"kind": args.kind}, compute))
 
 
 def cmd_gui(args: argparse.Namespace) -> int:
@@ -304,14 +290,11 @@ def cmd_analyze_afo(args: argparse.Namespace) -> int:
     from analysis.aads.experiment import write_report
     from analysis.aads.model import load_jig_model
 
-    from .offline.afo import afo_model_diagnosis, analyze_afo, resolve_trials
+    from .offline.afo import afo_model_diagnosis, analyze_afo
 
-    def compute() -> dict:
+    def compute(trials: list[LoadedTrial]) -> dict:
         model = load_jig_model(args.model)
-        store = (_store(args.store, read_only=True) if any(t.isdigit() and not Path(t).exists() for t in args.trials)
-                 else None)
-        inputs = resolve_trials(args.trials, store, spring=args.spring, spring_n_per_m=args.spring_n_per_m,
-                                model=model)
+        inputs = [t.afo_input(spring=args.spring, spring_n_per_m=args.spring_n_per_m, model=model) for t in trials]
         experiment = analyze_afo(inputs, model)
         files = write_report(experiment, args.out, model.fit_window_deg)
         payload = {"json": json.loads(files[0].read_text()), "text": experiment.text(), "files": [str(f) for f in files],
@@ -324,14 +307,12 @@ def cmd_analyze_afo(args: argparse.Namespace) -> int:
     settings = {"spring": args.spring, "spring_n_per_m": args.spring_n_per_m}
     if args.diagnose_model:
         settings["diagnose_model"] = True
-    return _show(args, _remember(args, "afo_set", settings, compute))
+    return _show(args, _analysed(args, "afo_set", settings, compute))
 
 
 
-def _store(path: Path | None, read_only: bool = False, reading: bool = False):  # noqa: ANN202
+def _store(path: Path | None, read_only: bool = False, reading: bool = False) -> SessionStore:
     """The store; ``reading`` commands fall back to read-only where the medium cannot be written."""
-    from .store import SessionStore, default_store_dir, open_store
-
     root = path or default_store_dir()
     store = open_store(root) if reading else SessionStore(root, read_only=read_only)
     for r in store.recovered:
@@ -343,33 +324,35 @@ def _store(path: Path | None, read_only: bool = False, reading: bool = False):  
 def cmd_record(args: argparse.Namespace) -> int:
     from .live.session import record_trial
     from .sim.simulate import lab_config_for, simulated_devices, simulation_metadata
-    from .store import Subject
-
     if not args.simulate:
         print("only --simulate is available from the command line; the GUI drives real devices", file=sys.stderr)
         return 2
     kind = kinds.get(args.protocol)
     proto = kind.protocol(**{p.name: getattr(args, p.dest) for p in kind.parameters
                              if getattr(args, p.dest) is not None})
-    store = _store(args.store)
-    try:
-        store.subject(args.subject)
-    except KeyError:
-        store.add_subject(Subject(args.subject, "unknown", 1.78, 75.0, shank_length_m=0.40, foot_length_m=0.26))
-    session = store.new_session(args.subject, args.operator, notes="simulated")
-    print(f"recording {proto.name} {proto.condition()} (about {proto.expected_duration_s():.0f} s) ...")
-    with simulated_devices(proto, lab_config_for(proto, seed=args.seed)) as (lab, devices):
-        out = record_trial(store, session, proto, devices, operator=args.operator, trial_number=args.trial or 1,
-                           extra_metadata=simulation_metadata(lab))
+    with _store(args.store) as store:
+        try:
+            store.subject(args.subject)
+        except KeyError:
+            store.add_subject(Subject(args.subject, "unknown", 1.78, 75.0, shank_length_m=0.40, foot_length_m=0.26))
+        session = store.new_session(args.subject, args.operator, notes="simulated")
+        print(f"recording {proto.name} {proto.condition()} (about {proto.expected_duration_s():.0f} s) ...")
+        with simulated_devices(proto, lab_config_for(proto, seed=args.seed)) as (lab, devices):
+            out = record_trial(store, session, proto, devices, operator=args.operator, trial_number=args.trial or 1,
+                               extra_metadata=simulation_metadata(lab))
     counts = ", ".join(f"{n}: {r.samples} samples, {r.counts()['lost_samples']} lost" for n, r in out.devices.items())
     print(f"trial {out.trial_id} {out.status}{' (' + out.reason + ')' if out.reason else ''}: {counts}\n  {out.path}")
     return 0 if out.status == "recorded" else 1
 
 
 def cmd_sessions(args: argparse.Namespace) -> int:
-    store = _store(args.store, reading=True)
+    with _store(args.store, reading=True) as store:
+        return _print_sessions(store, args.json)
+
+
+def _print_sessions(store: SessionStore, as_json: bool) -> int:
     trials = store.trials()
-    if args.json:
+    if as_json:
         print(json.dumps({"subjects": [s.as_dict() for s in store.subjects()], "sessions": store.sessions(),
                           "trials": [t.as_dict() for t in trials]}, indent=2))
         return 0
@@ -387,10 +370,14 @@ def cmd_sessions(args: argparse.Namespace) -> int:
 
 
 def cmd_export(args: argparse.Namespace) -> int:
+    with _store(args.store, reading=True) as store:
+        return _export(store, args)
+
+
+def _export(store: SessionStore, args: argparse.Namespace) -> int:
     from .live.recording import read_trial
     from .offline.export import check_export_targets, export_trial
 
-    store = _store(args.store, reading=True)
     rec = store.trial(args.trial_id)
     check_export_targets(args.format, args.output, store_root=store.root,
                          inputs=[rec.path, store.root / "store.sqlite"])

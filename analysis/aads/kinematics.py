@@ -1,6 +1,7 @@
 """Segment poses and the hinge angle of the AADS jig from marker trajectories (SI; degrees at the edge).
 
-Per frame, each segment's pose is the least-squares rigid fit (SVD, Kabsch/Söderkvist) of its
+Per frame, each segment's pose is the least-squares rigid fit (Kabsch/Söderkvist; solved in Horn's
+closed form for all frames at once, :mod:`analysis.aads.rotations`) of its
 model markers to the measured ones that are present; a segment needs 3 markers that are not on a
 line. Then:
 
@@ -17,50 +18,77 @@ line. Then:
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..errors import InputError
-from ..filtering import derivative, finite_runs, lowpass
+from ..filtering import derivative, derivative_together, finite_runs, lowpass_together
 from ..motion import MotionTrial
 from .model import JigModel, Segment
+from .rotations import best_rotations
 
 #: markers of a segment must spread at least this far (RMS distance from their line, m) to fix a pose
 MIN_SPREAD_M = 0.005
 
 
-def fit_poses(model_m: np.ndarray, measured_m: np.ndarray,
-              residuals: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]:
-    """Least-squares rigid poses of a marker cluster, every frame at once.
-
-    :param model_m: marker coordinates in the segment frame (markers, 3), m.
-    :param measured_m: measured positions (frames, markers, 3) in the lab, m; NaN where missing.
-    :returns: rotation (frames, 3, 3) segment→lab, origin (frames, 3) m, fit-ok (frames,) and the
-        distance of each measured marker from its fitted position (frames, markers) m (NaN if missing;
-        ``None`` when ``residuals`` is False).
-    """
-    n, m, _ = measured_m.shape
+def _covariance(model_m: np.ndarray, measured_m: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Centroids (frames, 3) of the model and measured markers present, their cross-covariance H
+    (frames, 3, 3) = Σ w (x − x̄)(y − ȳ)ᵀ, and the bound (Σw|x−x̄|² + Σw|y−ȳ|²)/2 on Horn's eigenvalue."""
     present = np.all(np.isfinite(measured_m), axis=2)
-    w = present.astype(float)
     y = np.where(present[..., None], measured_m, 0.0)
-    count = w.sum(axis=1)
-    safe = np.maximum(count, 1.0)
+    complete = present.all(axis=1)
+    if np.array_equal(complete, present.any(axis=1)):  # every frame has all its markers or none (filtered data)
+        xc0 = model_m - model_m.mean(axis=0)
+        cy = y.mean(axis=1)
+        yc = y - cy[:, None, :]
+        h = np.matmul(xc0.T[None], yc)
+        spread = 0.5 * (float(np.sum(xc0 * xc0)) + np.einsum("nmk,nmk->n", yc, yc))
+        return present, np.broadcast_to(model_m.mean(axis=0), cy.shape), cy, h, spread
+    w = present.astype(float)
+    safe = np.maximum(w.sum(axis=1), 1.0)
     cx = (w @ model_m) / safe[:, None]
     cy = np.matmul(w[:, None, :], y)[:, 0, :] / safe[:, None]
     xc = model_m[None, :, :] - cx[:, None, :]
     yc = y - cy[:, None, :]
-    h = np.matmul((w[..., None] * xc).transpose(0, 2, 1), yc)  # Σ w (x − x̄)(y − ȳ)ᵀ
-    ok = poseable(model_m, present)
-    u, _, vt = np.linalg.svd(h)
-    v = vt.transpose(0, 2, 1)
-    d = np.sign(np.linalg.det(np.matmul(v, u.transpose(0, 2, 1))))
-    d[d == 0] = 1.0
-    v[:, :, 2] *= d[:, None]
-    rot = np.matmul(v, u.transpose(0, 2, 1))  # V diag(1, 1, d) Uᵀ
-    origin = cy - np.matmul(rot, cx[:, :, None])[:, :, 0]
-    rot[~ok] = np.nan
-    origin[~ok] = np.nan
+    h = np.matmul((w[..., None] * xc).transpose(0, 2, 1), yc)
+    spread = 0.5 * (np.einsum("nm,nmk,nmk->n", w, xc, xc) + np.einsum("nm,nmk,nmk->n", w, yc, yc))
+    return present, cx, cy, h, spread
+
+
+def fit_poses_together(clusters: list[tuple[np.ndarray, np.ndarray, np.ndarray | None]]) -> list[
+        tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """:func:`fit_poses` of several clusters (model markers, measured markers, poseable frames or None),
+    their rotations solved in one batch; (rotation, origin, fit-ok) per cluster."""
+    parts = [_covariance(model_m, measured_m) for model_m, measured_m, _ in clusters]
+    rots = best_rotations(np.concatenate([p[3] for p in parts]), np.concatenate([p[4] for p in parts]))
+    out, at = [], 0
+    for (model_m, _, known), (present, cx, cy, _, _) in zip(clusters, parts):
+        rot = rots[at:at + len(cx)]
+        at += len(cx)
+        ok = poseable(model_m, present) if known is None else known
+        origin = cy - np.matmul(rot, cx[:, :, None])[:, :, 0]
+        rot[~ok] = np.nan
+        origin[~ok] = np.nan
+        out.append((rot, origin, ok))
+    return out
+
+
+def fit_poses(model_m: np.ndarray, measured_m: np.ndarray, residuals: bool = True,
+              poseable_frames: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]:
+    """Least-squares rigid poses of a marker cluster, every frame at once (Horn's closed form,
+    :func:`analysis.aads.rotations.best_rotations`; the same rotations as Kabsch's SVD).
+
+    :param model_m: marker coordinates in the segment frame (markers, 3), m.
+    :param measured_m: measured positions (frames, markers, 3) in the lab, m; NaN where missing.
+    :param poseable_frames: the frames whose present markers can fix a pose, when the caller knows
+        them (default: :func:`poseable`).
+    :returns: rotation (frames, 3, 3) segment→lab, origin (frames, 3) m, fit-ok (frames,) and the
+        distance of each measured marker from its fitted position (frames, markers) m (NaN if missing;
+        ``None`` when ``residuals`` is False).
+    """
+    ((rot, origin, ok),) = fit_poses_together([(model_m, measured_m, poseable_frames)])
     if not residuals:
         return rot, origin, ok, None
     fitted = np.matmul(model_m[None], rot.transpose(0, 2, 1)) + origin[:, None, :]
@@ -68,17 +96,24 @@ def fit_poses(model_m: np.ndarray, measured_m: np.ndarray,
     return rot, origin, ok, resid
 
 
+@functools.lru_cache(maxsize=256)
+def _pattern_poseable(model_bytes: bytes, markers: int, code: int) -> bool:
+    """Whether the markers of ``code`` (a bit per marker) of a cluster can fix a pose (asked once per pattern)."""
+    model_m = np.frombuffer(model_bytes).reshape(markers, 3)
+    pts = model_m[(code >> np.arange(markers)) & 1 == 1]
+    if pts.shape[0] < 3:
+        return False
+    lam = np.linalg.eigvalsh(np.cov(pts.T, bias=True))
+    return bool(np.sqrt(max(lam[1], 0.0)) >= MIN_SPREAD_M)
+
+
 def poseable(model_m: np.ndarray, present: np.ndarray) -> np.ndarray:
     """Frames (n,) whose present markers (n, markers) can fix a pose: 3 or more, not on one line."""
     codes = present.astype(np.int64) @ (1 << np.arange(present.shape[1], dtype=np.int64))
-    ok = np.zeros(present.shape[0], dtype=bool)
-    for code in np.unique(codes):
-        pattern = (int(code) >> np.arange(present.shape[1])) & 1 == 1
-        pts = model_m[pattern]
-        if pts.shape[0] >= 3:
-            lam = np.linalg.eigvalsh(np.cov(pts.T, bias=True))
-            ok[codes == code] = np.sqrt(max(lam[1], 0.0)) >= MIN_SPREAD_M
-    return ok
+    model_bytes = np.ascontiguousarray(model_m, dtype=float).tobytes()
+    unique, inverse = np.unique(codes, return_inverse=True)
+    ok = np.array([_pattern_poseable(model_bytes, present.shape[1], int(c)) for c in unique], dtype=bool)
+    return ok[inverse.reshape(-1)]
 
 
 def hinge_twist_rad(rot_foot: np.ndarray, rot_shank: np.ndarray, axis_in_foot: np.ndarray) -> np.ndarray:
@@ -169,12 +204,17 @@ def _segment_columns(trial: MotionTrial, seg: Segment, flags: list[str]) -> tupl
     return model, meas
 
 
-def _motion(seg: Segment, rot: np.ndarray, origin: np.ndarray, dt: float) -> SegmentMotion:
-    rdot = derivative(rot, dt)
-    omega = _vee(np.matmul(rdot, rot.transpose(0, 2, 1)))
-    com = rot @ seg.com_m + origin
-    return SegmentMotion(seg.name, rot, origin, omega, derivative(omega, dt), com,
-                         derivative(derivative(com, dt), dt))
+def _motions(segments: list[Segment], poses: list[tuple[np.ndarray, np.ndarray]], dt: float) -> list[SegmentMotion]:
+    """Angular velocity and acceleration, centre-of-mass position and acceleration of each segment
+    from its filtered poses (the derivatives of all segments taken together)."""
+    rdots = derivative_together([rot for rot, _ in poses], dt)
+    omegas = [_vee(np.matmul(rdot, rot.transpose(0, 2, 1))) for rdot, (rot, _) in zip(rdots, poses)]
+    coms = [rot @ seg.com_m + origin for seg, (rot, origin) in zip(segments, poses)]
+    firsts = derivative_together(omegas + coms, dt)
+    alphas, com_vels = firsts[:len(segments)], firsts[len(segments):]
+    com_accs = derivative_together(com_vels, dt)
+    return [SegmentMotion(seg.name, rot, origin, omega, alpha, com, acc)
+            for seg, (rot, origin), omega, alpha, com, acc in zip(segments, poses, omegas, alphas, coms, com_accs)]
 
 
 def aads_kinematics(trial: MotionTrial, model: JigModel) -> AadsKinematics:
@@ -197,28 +237,39 @@ def aads_kinematics(trial: MotionTrial, model: JigModel) -> AadsKinematics:
     raw_ok_all = np.ones(t.size, dtype=bool)
     bridged_all = np.ones(t.size, dtype=bool)
     residuals, labels = [], []
-    for seg in (model.foot, model.shank):
+    segments = (model.foot, model.shank)
+    columns, bridged_of = [], []
+    for seg in segments:
         x_model, meas = _segment_columns(trial, seg, flags)
         present = np.all(np.isfinite(meas), axis=2)
         ok = poseable(x_model, present)
         filled = meas.copy()
         partial = np.flatnonzero(ok & ~present.all(axis=1))
         if partial.size:  # fill a missing marker from its segment's pose on the markers present
-            rot, origin, _, _ = fit_poses(x_model, meas[partial], residuals=False)
+            rot, origin, _, _ = fit_poses(x_model, meas[partial], residuals=False, poseable_frames=ok[partial])
             fill = np.matmul(x_model[None], rot.transpose(0, 2, 1)) + origin[:, None, :]
             filled[partial] = np.where(present[partial, :, None], meas[partial], fill)
         filled[~ok] = np.nan
         bridged = _bridge_gaps(filled, ok, max_gap)
-        has = np.all(np.isfinite(bridged), axis=(1, 2))
         raw_ok_all &= ok
-        bridged_all &= has
-        smooth = lowpass(bridged, rate, model.filter_cutoff_hz)
-        rot_f, origin_f, _, _ = fit_poses(x_model, smooth, residuals=False)
+        bridged_all &= np.all(np.isfinite(bridged), axis=(1, 2))
+        columns.append((x_model, meas, present))
+        bridged_of.append(bridged)
+    # the spring hooks' markers (for the theory) are bridged the same way and filtered with the segments
+    hook_names = [n for n in (model.spring_top_marker, model.spring_bottom_marker) if n in trial.marker_labels]
+    hooks_raw = [trial.marker(n) for n in hook_names]
+    hooks_bridged = [_bridge_gaps(raw, np.all(np.isfinite(raw), axis=1), max_gap) for raw in hooks_raw]
+    smoothed = lowpass_together(bridged_of + hooks_bridged, rate, model.filter_cutoff_hz)
+    # a filtered frame has every marker or none: poseable where it has them (the whole cluster is)
+    clusters = [(x_model, smooth, poseable(x_model, np.ones((1, x_model.shape[0]), dtype=bool))[0]
+                 & np.all(np.isfinite(smooth), axis=(1, 2))) for (x_model, _, _), smooth in zip(columns, smoothed)]
+    for seg, (x_model, meas, present), (rot_f, origin_f, _) in zip(segments, columns, fit_poses_together(clusters)):
         # residual of each measured marker from the fitted (filtered) rigid segment
         fitted = np.matmul(x_model[None], rot_f.transpose(0, 2, 1)) + origin_f[:, None, :]
         residuals.append(np.where(present, np.linalg.norm(fitted - meas, axis=2), np.nan))
         labels += [k for k in seg.marker_labels if k in trial.marker_labels]
         filtered[seg.name] = (rot_f, origin_f)
+    hooks = dict(zip(hook_names, smoothed[len(segments):]))
     if not bridged_all.any():
         raise InputError(f"{trial.source or 'trial'}: no frame has enough markers to pose both segments")
     res = np.concatenate(residuals, axis=1)
@@ -232,8 +283,7 @@ def aads_kinematics(trial: MotionTrial, model: JigModel) -> AadsKinematics:
     if not quality.accepted:
         flags.append(f"marker fit outside acceptance: max {mx * 1e3:.1f} mm (limit {model.max_marker_error_m * 1e3:.0f}), "
                      f"RMS {rms * 1e3:.1f} mm (limit {model.rms_marker_error_m * 1e3:.0f})")
-    foot = _motion(model.foot, *filtered["foot"], dt)
-    shank = _motion(model.shank, *filtered["shank"], dt)
+    foot, shank = _motions([model.foot, model.shank], [filtered["foot"], filtered["shank"]], dt)
     angle = np.rad2deg(hinge_twist_rad(foot.rotation, shank.rotation, model.hinge_axis_in_foot))
     valid = (np.isfinite(angle) & np.all(np.isfinite(foot.com_acc_m_s2), axis=1)
              & np.all(np.isfinite(shank.com_acc_m_s2), axis=1) & np.all(np.isfinite(shank.alpha_rad_s2), axis=1)
@@ -243,11 +293,5 @@ def aads_kinematics(trial: MotionTrial, model: JigModel) -> AadsKinematics:
         flags.append(f"{unfit} frames could not be fit from their markers; {int(np.sum(bridged_all & ~raw_ok_all))} "
                      f"bridged (gaps ≤ {model.max_gap_s * 1e3:.0f} ms), {int(np.sum(~valid))} left out")
     gap = np.linalg.norm(foot.point_m(model.hinge_in_foot_m) - shank.point_m(model.hinge_in_shank_m), axis=1)
-    hooks: dict[str, np.ndarray] = {}
-    for name in (model.spring_top_marker, model.spring_bottom_marker):
-        if name in trial.marker_labels:
-            raw = trial.marker(name)
-            hooks[name] = lowpass(_bridge_gaps(raw, np.all(np.isfinite(raw), axis=1), max_gap), rate,
-                                  model.filter_cutoff_hz)
     return AadsKinematics(t, rate, foot, shank, angle, derivative(angle, dt), valid, unfit,
                           int(np.sum(bridged_all & ~raw_ok_all)), quality, gap, hooks, flags)

@@ -10,7 +10,7 @@ from analysis.aads.model import JigModel
 
 from ..kinds.aads import afo_model_diagnosis, trial_input
 from ..live.recording import read_trial
-from ..store import SessionStore
+from ..store import SessionStore, TrialRecord
 from .loading import load_trials
 
 
@@ -19,7 +19,7 @@ def trial_input_from_file(path: Path) -> TrialInput:
     return trial_input(read_trial(path))
 
 
-def resolve_trials(specs: Sequence[str], store: SessionStore | None, *, spring: int | None = None,
+def resolve_trials(specs: Sequence[str | TrialRecord], store: SessionStore | None, *, spring: int | None = None,
                    spring_n_per_m: float | None = None, model: JigModel | None = None) -> list[TrialInput]:
     """Turn command-line trial names into inputs: a store trial id, an ``.h5`` trial file or a ``.c3d`` file
     (through :func:`instrument.offline.loading.load_trials`).

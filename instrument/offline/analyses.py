@@ -13,7 +13,7 @@ from .. import kinds
 from ..errors import StoreReadOnlyError
 from ..kinds.base import TrialProtocol, live_check_agreement
 from ..store import SessionStore, remembered
-from .loading import records_as_loaded
+from .loading import load_trials
 
 
 def analyse_set(protocol: TrialProtocol, store_root: Any, trial_id: int, subject: dict[str, float]) -> str:
@@ -29,7 +29,7 @@ def analyse_set(protocol: TrialProtocol, store_root: Any, trial_id: int, subject
                 and t.status == "accepted"]
         # kept in the store with its inputs; the same accepted set analysed again is read back
         def run() -> str:
-            return kind.analyse_set(protocol, records_as_loaded(store, same), subject)
+            return kind.analyse_set(protocol, load_trials(same, store), subject)
 
         if store.read_only:
             return run()

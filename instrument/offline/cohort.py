@@ -31,7 +31,7 @@ from analysis.pmp.cohort import FitTask, bootstrap_trials, coverage, run_fit_tas
 from .. import kinds
 from ..errors import InstrumentError
 from ..store import SessionStore, TrialRecord, file_sha256
-from .loading import records_as_loaded
+from .loading import load_trials
 
 log = logging.getLogger(__name__)
 
@@ -127,7 +127,7 @@ def study_from_store(store: SessionStore, codes: Sequence[str] | None = None,
             if codes:
                 raise InstrumentError(f"subject {code}: no accepted or recorded knee/ankle trial in the store")
             continue
-        loaded = records_as_loaded(store, usable)
+        loaded = load_trials(usable, store)
         trials = []
         for lt in loaded:
             try:
@@ -304,7 +304,7 @@ def analyze_afo_sets(store: SessionStore) -> dict[str, dict[str, Any]]:
     out = {}
     for afo, records in afo_sets(store).items():
         def compute(records: list[TrialRecord] = records) -> dict[str, Any]:
-            exp = analyze_afo(resolve_trials([str(r.id) for r in records], store, model=model), model)
+            exp = analyze_afo(resolve_trials(records, store, model=model), model)
             return {"json": exp.as_dict(), "text": exp.text()}
 
         if store.read_only:

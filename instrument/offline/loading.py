@@ -87,27 +87,28 @@ class LoadedTrial:
         return ti
 
 
-def load_trials(specs: Sequence[str], store: SessionStore | None) -> list[LoadedTrial]:
-    """The trials named by ``specs``: store trial ids (digits that are not a file), ``.h5``, ``.c3d`` or CSV paths.
+def is_store_id(spec: str) -> bool:
+    """Whether a trial named on the command line is a store trial id (digits that are not a file)."""
+    return spec.isdigit() and not Path(spec).exists()
 
-    :raises InstrumentError: a trial id without a store, or a store that has no such trial.
+
+def load_trials(items: Sequence[str | TrialRecord], store: SessionStore | None) -> list[LoadedTrial]:
+    """The trials named by ``items``: store records, or specs as the operator typed them (store trial
+    ids, ``.h5``, ``.c3d`` or CSV paths). Each file is read once, when first asked for.
+
+    :raises InstrumentError: a trial id or record without a store, or a store that has no such trial.
     """
     out = []
-    for spec in specs:
-        path = Path(spec)
-        if spec.isdigit() and not path.exists():
+    for item in items:
+        if isinstance(item, TrialRecord) or is_store_id(item):
             if store is None:
-                raise InstrumentError(f"trial {spec}: a trial id needs a session store (--store)")
-            rec = store.trial(int(spec))
-            out.append(LoadedTrial(spec, Path(rec.path), rec, store.subject(rec.subject_code).as_dict()))
+                raise InstrumentError(f"trial {item if isinstance(item, str) else item.id}: a trial id needs a "
+                                      "session store (--store)")
+            rec = item if isinstance(item, TrialRecord) else store.trial(int(item))
+            out.append(LoadedTrial(str(rec.id), Path(rec.path), rec, store.subject(rec.subject_code).as_dict()))
         else:
-            out.append(LoadedTrial(spec, path))
+            out.append(LoadedTrial(item, Path(item)))
     return out
 
 
-def records_as_loaded(store: SessionStore, records: Sequence[TrialRecord]) -> list[LoadedTrial]:
-    """Store records (already selected) as loaded trials."""
-    return [LoadedTrial(str(r.id), Path(r.path), r, store.subject(r.subject_code).as_dict()) for r in records]
-
-
-__all__ = ["LoadedTrial", "load_trials", "records_as_loaded"]
+__all__ = ["LoadedTrial", "is_store_id", "load_trials"]

@@ -237,7 +237,7 @@ def diagnose_recordings(out: Path) -> list[dict[str, Any]]:
     """The demo's last step: diagnose the trials it recorded and exported, and print the findings."""
     from analysis.diagnosis import diagnose, from_table, write_diagnosis_plot
 
-    from ..offline.loading import records_as_loaded
+    from ..offline.loading import load_trials
     from ..store import SessionStore
 
     print("\nDiagnosis of the recorded trials (what the model gets wrong, and why):")
@@ -246,7 +246,7 @@ def diagnose_recordings(out: Path) -> list[dict[str, Any]]:
     picked: dict[str, Any] = {}
     for t in store.trials():
         picked.setdefault(t.protocol, t)
-    loaded = dict(zip(picked, records_as_loaded(store, list(picked.values()))))
+    loaded = dict(zip(picked, load_trials(list(picked.values()), store)))
     store.close()
     (out / "diagnosis").mkdir(exist_ok=True)
     for protocol, t in picked.items():
@@ -273,14 +273,12 @@ def passive_parameters(out: Path) -> tuple[dict[str, Any], bool]:
     from drivers.simulation.demo_subject import demo_subject
 
     from ..kinds.isokinetic import MODEL_CANDIDATES
-    from ..offline.loading import records_as_loaded
+    from ..offline.loading import load_trials
     from ..store import SessionStore
 
-    store = SessionStore(out / "store", read_only=True)
-    tables = [t.table() for t in records_as_loaded(
-        store, [t for t in store.trials() if t.protocol in kinds.names_feeding(kinds.PASSIVE_PARAMETERS)
-                      and t.status == "recorded"])]
-    store.close()
+    with SessionStore(out / "store", read_only=True) as store:
+        tables = [t.table() for t in load_trials([t for t in store.trials() if t.status == "recorded" and
+                                                  t.protocol in kinds.names_feeding(kinds.PASSIVE_PARAMETERS)], store)]
     print(f"\nPassive muscle-tendon parameters from the {len(tables)} recorded knee and ankle trials (direct "
           "collocation, CasADi). The simulated subject's moments are OpenSim's (Rajagopal 2016's muscles with their own "
           "parameters, muscles the estimator does not model, ligaments at the range's ends): a subject the estimator "
@@ -372,13 +370,12 @@ def replica_leg(out: Path) -> tuple[dict[str, Any], bool]:
     from analysis.pmp.replica import text, to_json
 
     from ..kinds.replica import analyze_replica
-    from ..offline.loading import records_as_loaded
+    from ..offline.loading import load_trials
     from ..store import SessionStore
 
-    store = SessionStore(out / "store", read_only=True)
-    trials = records_as_loaded(store, [t for t in store.trials() if t.protocol in kinds.names_feeding(kinds.REPLICA_SPRINGS)
-                                                  and t.status == "recorded"])
-    store.close()
+    with SessionStore(out / "store", read_only=True) as store:
+        trials = load_trials([t for t in store.trials() if t.status == "recorded" and
+                              t.protocol in kinds.names_feeding(kinds.REPLICA_SPRINGS)], store)
     print(f"\nReplica leg: four springs (BFLH, BFSH, VASINT, RECFEM) from {len(trials)} trial(s) of static holds "
           "every 8°, hip 90° (sensor tared with the shank off) ...")
     try:

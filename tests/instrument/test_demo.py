@@ -99,13 +99,13 @@ def test_demo_records_a_lab_day_into_a_store(demo_run: tuple[Path, str]) -> None
 
 
 def test_the_loader_gives_store_trials_their_subject_and_the_index_verdict(demo_run: tuple[Path, str]) -> None:
-    from instrument.offline.loading import load_trials, records_as_loaded
+    from instrument.offline.loading import load_trials
     from instrument.store import SessionStore
 
     store = SessionStore(demo_run[0] / "store", read_only=True)
     try:
         knee = [r for r in store.trials() if r.protocol == "knee"][:1]
-        (loaded,) = records_as_loaded(store, knee)
+        (loaded,) = load_trials(knee, store)
         assert loaded.kind == "h5" and loaded.subject and loaded.subject.get("mass_kg")
         table = loaded.table()
         assert table.sidecar["trial_status"] == knee[0].status
@@ -113,7 +113,7 @@ def test_the_loader_gives_store_trials_their_subject_and_the_index_verdict(demo_
         by_id = load_trials([str(knee[0].id)], store)[0]
         assert by_id.record is not None and by_id.record.id == knee[0].id
         aads = [r for r in store.trials() if r.protocol == "aads"][:1]
-        ti = records_as_loaded(store, aads)[0].afo_input()
+        ti = load_trials(aads, store)[0].afo_input()
         assert ti.factors["store_trial_id"] == aads[0].id and ti.factors["spring"] is not None
     finally:
         store.close()
