@@ -60,7 +60,7 @@ def read_c3d(path: str | Path, *, plate: int = 0, require_plate: bool = True) ->
         raise DataFileError(path, "file does not exist")
     try:
         c = ezc3d.c3d(str(path), extract_forceplat_data=True)
-    except Exception as err:  # noqa: BLE001 - ezc3d raises bare RuntimeError/ValueError/IOError
+    except Exception as err:
         raise DataFileError(path, f"not a readable C3D file: {err}") from err
     declared = _declared_frames(path)
     held = int(np.asarray(c["data"]["points"]).shape[-1])
@@ -193,7 +193,7 @@ def write_c3d(path: str | Path, trial: MotionTrial, *, corners_m: np.ndarray | N
     c["header"]["points"]["first_frame"] = int(round(trial.marker_time_s[0] * marker_rate)) if n_m else 0
     try:
         c.write(str(path))
-    except Exception as err:  # noqa: BLE001
+    except Exception as err:
         raise DataFileError(path, f"cannot write C3D: {err}") from err
 
 

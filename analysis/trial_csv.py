@@ -5,7 +5,8 @@ knee flexion; ``torque_Nm`` is the torque applied to the specimen toward positiv
 dynamometer, the operator or the sensor — which is what the specimen resists with (a linear
 spring reads torque = k × angle, k > 0). For a passive limb moved slowly it is
 −(M_muscles + M_gravity), the estimator's control u. For knee and ankle trials it includes the
-weight of the segments distal to the joint; the dynamometer arm's own weight is already removed. The sidecar holds ``kind`` (afo, knee, ankle,
+weight of the segments distal to the joint; the dynamometer arm's own weight is already removed. The sidecar holds ``kind``
+(afo, knee, ankle,
 replica), the fixed joint angles ``hip_flexion_deg``, ``knee_flexion_deg``,
 ``ankle_dorsiflexion_deg``, and ``subject`` (``mass_kg``, ``height_m``, ``thigh_length_m``,
 ``shank_length_m``, ...); more keys are allowed.

@@ -8,13 +8,15 @@ import json
 import sys
 from pathlib import Path
 
-BENCHMARKS = {"drivers": "benchmarks.drivers", "pmp_opensim": "benchmarks.pmp_opensim", "recording": "benchmarks.recording", "aads": "benchmarks.aads",
+BENCHMARKS = {"drivers": "benchmarks.drivers", "pmp_opensim": "benchmarks.pmp_opensim", "recording": "benchmarks.recording",
+              "aads": "benchmarks.aads",
               "diagnosis": "benchmarks.diagnosis", "pmp": "benchmarks.pmp",
               "relaxation": "benchmarks.relaxation", "gui": "benchmarks.gui", "safety": "benchmarks.safety",
               "cohort": "benchmarks.cohort", "diagnosis_wide": "benchmarks.diagnosis_wide",
               "pmp_model_diagnosis": "benchmarks.pmp_model_diagnosis",
               "afo_model_diagnosis": "benchmarks.afo_model_diagnosis",
-              "diagnosis_stops": "benchmarks.diagnosis_stops", "diagnosis_input": "benchmarks.diagnosis_input", "diagnosis_family_b": "benchmarks.diagnosis_family_b",
+              "diagnosis_stops": "benchmarks.diagnosis_stops", "diagnosis_input": "benchmarks.diagnosis_input",
+              "diagnosis_family_b": "benchmarks.diagnosis_family_b",
               "pmp_realistic": "benchmarks.pmp_realistic"}
 
 

@@ -18,7 +18,8 @@ Keys: ``accuracy`` (single effects), ``pair_accuracy``, ``false_alarm_rate`` (cl
 peer's ``sindy_accuracy``, ``sindy_pair_accuracy``, ``sindy_false_alarm_rate`` and their
 ``sindy_1se_*`` twins, ``seconds_per_trial`` (and ``sindy_seconds_per_trial``),
 ``magnitude_within_15pct``, ``magnitude_interval_coverage`` (how often the reported 95 % interval of a
-named cause's magnitude holds the truth, singles and pairs, and per cause), ``seconds_100hz_60s``, ``seconds_1000hz_60s``, per-cause and per-pair
+named cause's magnitude holds the truth, singles and pairs, and per cause), ``seconds_100hz_60s``, ``seconds_1000hz_60s``,
+per-cause and per-pair
 tables for both.
 """
 

@@ -3,7 +3,8 @@
 A stop at 3–5× the noise acts over the last 4–8° of a movement; whether one trial can show it at all
 depends on how many samples pass the stop and on what the baseline can absorb. This benchmark asks,
 for each trial of the independent generator (:mod:`benchmarks.diagnosis_truth`, seeds 13000–13039
-per kind, half with nuisances; fast sweeps 14000–14019 for knee and ankle), what an *oracle* would see: the t statistic of a stop placed at the
+per kind, half with nuisances; fast sweeps 14000–14019 for knee and ankle), what an *oracle* would see: the t statistic of a
+stop placed at the
 true angle (searched within ±2° of it, for the angle offset a nuisance adds) on the diagnosis's own
 baseline, with the same effective-sample-size standard error. A stop the oracle cannot lift past
 the diagnosis's level (:data:`analysis.diagnosis.engine.LOCAL_STOP_T`) is beyond what any test at

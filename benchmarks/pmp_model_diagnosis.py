@@ -11,7 +11,8 @@ reaching the arm by virtual work: not the estimator's first-order form). The mod
 judges it on the left-out repeats.
 
 A case is right when the diagnosis names the hidden extension with its interval holding the truth,
-or names it among extensions the trials cannot separate (with the protocol that would); or, for an effect these one-way, one-speed sweeps cannot separate from the muscles (the diagnosis
+or names it among extensions the trials cannot separate (with the protocol that would); or, for an effect these one-way,
+one-speed sweeps cannot separate from the muscles (the diagnosis
 then reports it absorbed, with the protocol that would separate it), when it is reported so with
 its interval holding the truth; a clean case is right when nothing is named and nothing material
 is reported absorbed.

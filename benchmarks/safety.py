@@ -21,8 +21,9 @@ from __future__ import annotations
 
 import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
@@ -90,7 +91,7 @@ def one_run(store: SessionStore, path: str, seed: int) -> dict[str, float]:
     source = SimulatedSource(seed=seed)
     proto = KneeProtocol(end_deg=END_DEG, speed_deg_s=SPEED_DEG_S)
     with source.devices(proto) as devices:
-        sim = source.lab.dynamometer  # type: ignore[union-attr]
+        sim = source.lab.dynamometer  # type: ignore[union-attr]  # inside the source's trial the lab is set
         runner = TrialRunner(store, store.new_session("B01"), proto, devices,
                              limits=SafetyLimits(rom_deg=(-5.0, 65.0)))
         runner.start()

@@ -16,7 +16,8 @@ Each column is scaled by its largest magnitude, so a coefficient is the term's p
 N·m and the threshold is in N·m. The threshold is chosen by blocked cross-validation (the trial cut
 into 2 s blocks, longer than the noise's correlation, dealt round-robin into 5 folds; each fold
 predicted from a fit on the other four: five contiguous fifths would make every fold extrapolate a
-sweep segment the fit never saw) over a grid from 0.1 % to 100 % of the torque's SD: at the minimum of the held-out error, and, as the one-standard-error
+sweep segment the fit never saw) over a grid from 0.1 % to 100 % of the torque's SD: at the minimum of the held-out error, and,
+as the one-standard-error
 variant, the largest threshold whose error is within one standard error of that minimum. A cause is
 named when any of its terms survives. Data are block-averaged to at most 50 Hz first (the effects
 are below 5 Hz), rows with a NaN are dropped; a term the baseline columns reproduce (R² > 0.999)
@@ -69,7 +70,7 @@ def _block_means(trial: DiagnosisTrial) -> tuple[np.ndarray, np.ndarray, np.ndar
     rate = (t.size - 1) / max(t[-1] - t[0], 1e-9)
     m = max(int(rate // MAX_RATE_HZ), 1)
     n = t.size // m * m
-    return tuple(a[:n].reshape(-1, m).mean(axis=1) for a in (t, th, y))  # type: ignore[return-value]
+    return tuple(a[:n].reshape(-1, m).mean(axis=1) for a in (t, th, y))  # type: ignore[return-value]  # a 3-tuple built from three arrays
 
 
 def library(trial: DiagnosisTrial) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[str], int]:

@@ -41,7 +41,8 @@ def open_device(kind: str, url: str) -> StreamingDevice:
     return opener(url)  # type: ignore[no-any-return]  # each opener returns its kind's StreamingDevice
 
 __all__ = [
-    "DEVICE_OPENERS", "open_device", "CommandRefusedError", "ConnectionLostError", "CounterResyncError", "DeviceInitializationError", "DeviceNotAvailableError",
+    "DEVICE_OPENERS", "open_device", "CommandRefusedError", "ConnectionLostError", "CounterResyncError",
+    "DeviceInitializationError", "DeviceNotAvailableError",
     "DeviceOperationError", "DeviceStats", "DeviceTimeoutError", "DriverError", "Dynamometer",
     "DynamometerBlock", "DynamometerLimits", "ForcePlate", "ForcePlateBlock", "LimitViolationError",
     "MarkerBlock", "MarkerStream", "open_marker_stream",

@@ -127,10 +127,10 @@ class StreamingDevice(ABC):
     def _close_internal(self) -> None:
         """Release the link. Must not raise."""
 
-    def _on_stream_start(self) -> None:
+    def _on_stream_start(self) -> None:  # noqa: B027 - an optional hook; doing nothing is the default
         """Tell the device to start streaming (after every (re)connection). Default: nothing."""
 
-    def _on_stream_stop(self) -> None:
+    def _on_stream_stop(self) -> None:  # noqa: B027 - an optional hook; doing nothing is the default
         """Tell the device to stop streaming and hand what is still in flight to :meth:`_deliver`.
 
         Must not raise. Default: nothing.
@@ -224,9 +224,9 @@ class StreamingDevice(ABC):
                 item = self._events.get_nowait()
             except queue.Empty:
                 return blocks, errors
-            (errors if isinstance(item, DriverError) else blocks).append(item)  # type: ignore[arg-type]
+            (errors if isinstance(item, DriverError) else blocks).append(item)  # type: ignore[arg-type]  # the queue holds blocks and errors; the isinstance test sorts them
 
-    def __enter__(self) -> "StreamingDevice":
+    def __enter__(self) -> StreamingDevice:
         self.open()
         return self
 
@@ -253,13 +253,13 @@ class StreamingDevice(ABC):
             except DriverError as err:  # one bad operation: report in order, keep going
                 self._events.put(err)
                 continue
-            except Exception as err:  # noqa: BLE001 - a reader thread must never die silently
+            except Exception as err:
                 log.exception("%s: unexpected reader error", self.name)
                 self._lost(ConnectionLostError(f"{self.name}: unexpected reader error: {err!r}"))
                 continue
             try:
                 self._handle_block(block)
-            except Exception as err:  # noqa: BLE001 - accounting must not kill the reader either
+            except Exception as err:
                 log.exception("%s: unexpected error handling a block", self.name)
                 self._events.put(DeviceOperationError(f"{self.name}: a block could not be handled: {err!r}"))
 
@@ -345,11 +345,11 @@ class StreamingDevice(ABC):
             self.stats.reconnects += 1
             self._last_data_s = monotonic_s()
             log.info("%s: reconnected", self.name)
-        except Exception as err:  # noqa: BLE001 - a failed reconnect is retried, never the thread's end
+        except Exception as err:
             log.debug("%s: reconnect failed: %s", self.name, err)
             with self._lock:
                 try:
                     self._close_internal()
-                except Exception:  # noqa: BLE001
+                except Exception:
                     pass
                 self._connected = False

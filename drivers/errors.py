@@ -82,6 +82,6 @@ def error_check(
         raise
     except TimeoutError as err:
         raise DeviceTimeoutError(f"{message}: {err}") from err
-    except Exception as err:  # noqa: BLE001 - converting at the boundary is the point
+    except Exception as err:
         code = getattr(err, "errno", None)
         raise error_type(f"{message}: {err}", error_code=code if isinstance(code, int) else None) from err

@@ -27,7 +27,7 @@ class DeviceUrl:
     text: str = ""
 
     @classmethod
-    def parse(cls, url: str) -> "DeviceUrl":
+    def parse(cls, url: str) -> DeviceUrl:
         """Parse ``url``; raises ``ValueError`` if it has no scheme."""
         scheme, sep, rest = url.partition("://")
         if not sep or not scheme:

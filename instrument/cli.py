@@ -413,7 +413,7 @@ def main(argv: list[str] | None = None) -> int:
     except (InstrumentError, DriverError, OSError) as err:
         print(f"error: {_one_line(err)}", file=sys.stderr)
         return 1
-    except Exception as err:  # noqa: BLE001 - analysis errors carry their own message; the rest is a bug
+    except Exception as err:
         from analysis.errors import AnalysisError
 
         if isinstance(err, AnalysisError):

@@ -25,7 +25,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from benchmarks.opensim_truth import draw_truth, generic_parameters, model_path, opensim  # noqa: E402
+from benchmarks.opensim_truth import draw_truth, generic_parameters, model_path, opensim  # noqa: E402 - after the repository root is on the path
 
 DEMO_SEED = 77
 HAMSTRINGS = ("bflh", "semimem", "semiten")
@@ -64,7 +64,8 @@ def main() -> int:
                        "moment_nm": [round(float(v), 6) for v in moments]})
     facts = opensim({"what": "facts", "model": str(model_path())})
     out = {"source": "OpenSim (Rajagopal 2016, DeGrooteFregly2016Muscle), tools/make_demo_subject.py",
-           "seed": DEMO_SEED, "shank_length_m": facts["shank_length_m"], "moment_sign": "toward positive angle (knee flexion, ankle dorsiflexion), N·m",
+           "seed": DEMO_SEED, "shank_length_m": facts["shank_length_m"],
+           "moment_sign": "toward positive angle (knee flexion, ankle dorsiflexion), N·m",
            "truth": truth, "limit_forces": LIMIT_FORCES, "unmodelled_muscles": True, "tables": tables}
     path = ROOT / "drivers" / "simulation" / "data" / "demo_subject.json"
     path.write_text(json.dumps(out, indent=1))

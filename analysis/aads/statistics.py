@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass
+from typing import Any
 
 import numpy as np
 
@@ -80,7 +81,7 @@ class AnovaRow:
         return {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in asdict(self).items()}
 
 
-def anova_frame(records: Sequence[StiffnessRecord]):  # noqa: ANN201 - a pandas DataFrame
+def anova_frame(records: Sequence[StiffnessRecord]) -> Any:
     """The records as the table statsmodels fits (finite stiffness only)."""
     import pandas as pd
 

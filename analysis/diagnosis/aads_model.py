@@ -78,7 +78,7 @@ class AfoTrialData:
     label: str = ""
 
     @classmethod
-    def from_result(cls, result: Any, label: str = "") -> "AfoTrialData":
+    def from_result(cls, result: Any, label: str = "") -> AfoTrialData:
         """From an :func:`analysis.aads.analyze_trial` result that has its theory."""
         if getattr(result, "theory", None) is None:
             raise InputError("the model-level AFO diagnosis needs the spring's theory (the hook markers) in every trial")
@@ -397,16 +397,19 @@ def diagnose_afo_model(trials: list[AfoTrialData], *, window_deg: tuple[float, f
     corrected = _stiffness_error_pct(trials, named, chosen.parameters, window_deg) if chosen else raw
     ambiguous = [n for n in passing if n not in named
                  and singles[n][0].heldout_ratio <= 1.05 * singles[named[0]][0].heldout_ratio] if named else []
+    def gain_text() -> str:
+        assert chosen is not None  # an extension is named only when one was chosen
+        return (f": held-out RMSE {plain.heldout_rmse_nm:.3f} → {chosen.heldout_rmse_nm:.3f} N·m "
+                f"(ratio {chosen.heldout_ratio:.2f} against the spring alone)")
+
     if named and ambiguous:
         message = (f"{named[0]} or {', '.join(ambiguous)} (these trials cannot separate them: "
                    + "; ".join(separate or ["another protocol"]) + "); "
                    + " and ".join(f"{n} ({EXTENSIONS[n]})" for n in named)
-                   + f": held-out RMSE {plain.heldout_rmse_nm:.3f} → {chosen.heldout_rmse_nm:.3f} N·m "  # type: ignore[union-attr]
-                   f"(ratio {chosen.heldout_ratio:.2f} against the spring alone)")  # type: ignore[union-attr]
+                   + gain_text())
     elif named:
         message = (" and ".join(f"{n} ({EXTENSIONS[n]})" for n in named)
-                   + f": held-out RMSE {plain.heldout_rmse_nm:.3f} → {chosen.heldout_rmse_nm:.3f} N·m "  # type: ignore[union-attr]
-                   f"(ratio {chosen.heldout_ratio:.2f} against the spring alone)")  # type: ignore[union-attr]
+                   + gain_text())
     else:
         message = (f"no extension predicts the left-out trials better than {max_heldout_ratio:.0%} of the spring "
                    f"model's {plain.heldout_rmse_nm:.3f} N·m: the spring model fits to the noise of these trials")

@@ -150,17 +150,17 @@ class Prepared:
         theta = self.theta if self.theta_whole is None else self.theta_whole
         return np.interp(self.t - delay_s, t, theta), self.t - delay_s >= t[0]
 
-    def as_flexible(self) -> "Prepared":
+    def as_flexible(self) -> Prepared:
         """The same signals with the flexible baseline."""
         return dataclasses.replace(self, base_cache=None, flexible=True, gram_cache={}, arg_cache={})
 
-    def with_end_term(self, end: str, rate_per_rad: float) -> "Prepared":
+    def with_end_term(self, end: str, rate_per_rad: float) -> Prepared:
         """The same signals with one more exponential at ``end`` (``"low"``/``"high"``) of the baseline."""
         return dataclasses.replace(self, base_cache=None, gram_cache={}, arg_cache={},
                                    end_terms=self.end_terms + ((end, rate_per_rad),))
 
     @classmethod
-    def of(cls, trial: DiagnosisTrial, min_angle_deg: float | None = None) -> "Prepared":
+    def of(cls, trial: DiagnosisTrial, min_angle_deg: float | None = None) -> Prepared:
         """Signals of ``trial``; ``min_angle_deg`` keeps only samples at or above that angle (velocity
         is taken on the whole trial first, so the cut does not bend it)."""
         grav = trial.limb_gravity_nm()
@@ -231,7 +231,7 @@ class Cause:
     magnitude_key: str = ""
     #: candidate nonlinear parameters: a list of per-parameter arrays (all combinations are tried)
     #: or an array (k, parameters) of explicit combinations
-    grid: Callable[[Prepared], "list[np.ndarray] | np.ndarray"] = field(default=lambda p: [])
+    grid: Callable[[Prepared], list[np.ndarray] | np.ndarray] = field(default=lambda p: [])
     transient: bool = False  # a local event: held-out blocks cannot predict it
     #: physical sign of each extra column's coefficient (+1: ≥ 0, −1: ≤ 0, 0: free). Torque is the
     #: resistance of the specimen (see analysis.trial_csv), so passive losses and stops add to it:
@@ -240,7 +240,7 @@ class Cause:
     #: a cause that is not a function of angle alone: it must also beat the flexible baseline
     hysteretic: bool = False
     #: the two causes of a compound (their nonlinear parameters are searched one at a time)
-    parts: tuple["Cause", ...] = ()
+    parts: tuple[Cause, ...] = ()
     #: a known part of the prediction (N·m, not fitted) given the nonlinear parameters, or None: a
     #: lagging torque channel lags the limb's known weight and inertia too (see Prepared.delayed_known)
     offset: Callable[[Prepared, tuple[float, ...]], np.ndarray] | None = None
@@ -426,11 +426,15 @@ CAUSES: dict[str, Cause] = {c.name: c for c in [
 
 #: pairs a trial may not tell apart, and the protocol change that would
 SEPARATE_BY: dict[frozenset[str], str] = {
-    frozenset({"coulomb_friction", "viscous_damping"}): "a second bending speed (friction keeps its width, damping grows with speed)",
-    frozenset({"viscous_damping", "time_delay"}): "a second speed over a range where the stiffness changes, or a step to time the channels",
+    frozenset({"coulomb_friction", "viscous_damping"}):
+        "a second bending speed (friction keeps its width, damping grows with speed)",
+    frozenset({"viscous_damping", "time_delay"}):
+        "a second speed over a range where the stiffness changes, or a step to time the channels",
     frozenset({"coulomb_friction", "time_delay"}): "a second speed (a delay's hysteresis grows with speed, friction's does not)",
-    frozenset({"series_compliance", "hard_stop"}): "the spring's own torque from the hook markers (theory) or a bend that stays below the stop",
-    frozenset({"gravity_error", "series_compliance"}): "a trial at a second fixed hip or knee angle (gravity's phase moves, elasticity's does not)",
+    frozenset({"series_compliance", "hard_stop"}):
+        "the spring's own torque from the hook markers (theory) or a bend that stays below the stop",
+    frozenset({"gravity_error", "series_compliance"}):
+        "a trial at a second fixed hip or knee angle (gravity's phase moves, elasticity's does not)",
     frozenset({"sensor_drift", "activation_burst"}): "a repeat of the trial (a burst is not repeated, a drift is)",
 }
 

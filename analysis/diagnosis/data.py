@@ -82,7 +82,7 @@ class DiagnosisTrial:
     def rate_hz(self) -> float:
         return 1.0 / float(np.median(np.diff(self.time_s)))
 
-    def decimated(self, max_rate_hz: float) -> "DiagnosisTrial":
+    def decimated(self, max_rate_hz: float) -> DiagnosisTrial:
         """This trial averaged over blocks of consecutive samples so its rate is at most ``max_rate_hz``
         (Hz); the block mean is the anti-alias filter. Passive effects live below 10 Hz."""
         q = int(math.floor(self.rate_hz / max_rate_hz))

@@ -88,7 +88,8 @@ class CauseFit:
         return self.coef.size + len(self.nonlinear)
 
 
-def _solve(prep: Prepared, cause: Cause, nl: tuple[float, ...], mask: np.ndarray) -> tuple[float, np.ndarray, np.ndarray, int, np.ndarray]:
+def _solve(prep: Prepared, cause: Cause, nl: tuple[float, ...], mask: np.ndarray) -> tuple[float, np.ndarray, np.ndarray, int,
+                                                                                           np.ndarray]:
     base, ext, valid = cause.columns(prep, nl)
     x = np.hstack([base, ext])
     use = mask & valid
@@ -176,7 +177,7 @@ def _refine_scalar(fun: Any, grid: np.ndarray, v: float) -> float:
     return float(res.x) if res.fun <= fun(v) else v
 
 
-def _grid_rows(grids: "list[np.ndarray] | np.ndarray") -> list[tuple[float, ...]]:
+def _grid_rows(grids: list[np.ndarray] | np.ndarray) -> list[tuple[float, ...]]:
     if isinstance(grids, np.ndarray):
         return [tuple(float(v) for v in row) for row in grids]
     return [tuple(float(v) for v in row) for row in itertools.product(*grids)] if grids else [()]
@@ -249,14 +250,14 @@ def fit_cause(prep: Prepared, cause: Cause, mask: np.ndarray | None = None, refi
                         # held-out gain −3 at the grid's 30 ms, the delay alone 25 ms). Not a friction width: refined
                         # beside a second cause it let that cause take up what the tanh law misses of an arctan
                         # friction (`benchmarks diagnosis` singles 0.982 → 0.956: friction + damping, burst, stop)
-                        def g(v: float, lo_i: int = lo_i) -> float:
+                        def g(v: float, lo_i: int = lo_i, nl: tuple[float, ...] = nl) -> float:
                             rss, n = _rss(prep, cause, nl[:lo_i] + (v,) + nl[lo_i + 1:], mask)
                             return rss / max(n, 1)
                         nl = nl[:lo_i] + (_refine_scalar(g, grids[0], nl[lo_i]),) + nl[lo_i + 1:]
                         continue
                     if part.name != "activation_burst":
                         continue
-                    def f(v: np.ndarray, lo_i: int = lo_i) -> float:
+                    def f(v: np.ndarray, lo_i: int = lo_i, nl: tuple[float, ...] = nl) -> float:
                         cand = nl[:lo_i] + burst_bounds(prep, (float(v[0]), float(v[1]))) + nl[lo_i + 2:]
                         return _rss(prep, cause, cand, mask)[0]
                     res = minimize(f, np.array(nl[lo_i:lo_i + 2]), method="Nelder-Mead",
@@ -555,7 +556,8 @@ class Diagnosis:
                 "candidates": [c.as_dict() for c in self.candidates]}
 
     def text(self) -> str:
-        lines = [f"cause: {self.cause}" + (f" (cannot be told from {', '.join(self.ambiguous_with)})" if self.ambiguous_with else "")]
+        ambiguous = f" (cannot be told from {', '.join(self.ambiguous_with)})" if self.ambiguous_with else ""
+        lines = [f"cause: {self.cause}" + ambiguous]
         for k, v in self.parameters.items():
             se = self.parameters_se.get(k)
             lines.append(f"  {k} = {v:.4g}" + (f" ± {se:.2g} (SE)" if se is not None else ""))

@@ -78,7 +78,8 @@ def _bends(rng: np.random.Generator, peak: tuple[float, float], cycles: int = 6)
     return np.concatenate(parts)
 
 
-def make_trial(kind: str, cause: str = "none", seed: int = 0, magnitude: float | None = None) -> tuple[DiagnosisTrial, HiddenEffect]:
+def make_trial(kind: str, cause: str = "none", seed: int = 0, magnitude: float | None = None) -> tuple[DiagnosisTrial,
+                                                                                                       HiddenEffect]:
     """A trial of ``kind`` hiding ``cause`` (``"random"``: one of the kind's causes, or none, drawn from the seed)."""
     rng = np.random.default_rng(seed)
     if cause == "random":

@@ -180,7 +180,7 @@ class PmpResult:
 PATH_TAYLOR_ORDER = 3
 
 
-def _path_taylor(leg: LegMuscles, trial: "PmpTrial", anchors_rad: np.ndarray) -> tuple[list[str], np.ndarray]:
+def _path_taylor(leg: LegMuscles, trial: PmpTrial, anchors_rad: np.ndarray) -> tuple[list[str], np.ndarray]:
     """Taylor coefficients (0 … :data:`PATH_TAYLOR_ORDER`) of the length and the moment arm about
     ``trial``'s joint of every muscle crossing it, at ``anchors_rad`` (the measured angles of the
     collocation points; the other joints at the trial's fixed angles): rows muscle by muscle, the
@@ -248,7 +248,7 @@ def _muscles_moment(leg: LegMuscles, trial: PmpTrial, q: Any, par: dict[str, Any
         names = [m for m in MUSCLES if trial.joint in leg.paths[m].joints]
         for i, m in enumerate(names):
             block = [coef[(2 * i + w) * n:(2 * i + w + 1) * n] for w in (0, 1)]
-            paths[m] = tuple(sum(b[k] * delta**k for k in range(n)) for b in block)  # type: ignore[assignment]
+            paths[m] = tuple(sum(b[k] * delta**k for k in range(n)) for b in block)  # type: ignore[assignment]  # casadi expressions summed: casadi's stubs type the sum as float
 
     angles = {"hip": trial.fixed_rad.get("hip", 0.0), "knee": trial.fixed_rad.get("knee", 0.0),
               "ankle": trial.fixed_rad.get("ankle", 0.0), trial.joint: q}
@@ -437,7 +437,7 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
     stats = sol.stats()
     status = str(stats.get("return_status", "unknown"))
     res_trials = []
-    for t, tt, q, v, u, u_scale, qm, vm, um in outputs:
+    for t, tt, q, v, u, u_scale, qm, _vm, um in outputs:
         res_trials.append({"name": t.name, "time_s": tt, "angle_rad": sol.value(q), "velocity_rad_s": sol.value(v),
                            "torque_nm": sol.value(u) * u_scale, "measured_angle_rad": qm, "measured_torque_nm": um})
     ext_est = {}

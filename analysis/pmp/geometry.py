@@ -46,7 +46,7 @@ class MusclePath:
     tendon_strain: float = 0.049
     #: OpenSim's lengths and moment arms on a fine grid of the joints' angles, interpolated by cubic
     #: B-splines (see :class:`SplineGrid`); when present they replace the polynomials
-    spline: "SplineGrid | None" = None
+    spline: SplineGrid | None = None
 
     def _args(self, angles: dict[str, Any]) -> list[Any]:
         return [angles[j] for j in self.joints]
@@ -171,7 +171,7 @@ def load_paths(name: str = "rajagopal2016_paths.json") -> dict[str, MusclePath]:
         arms = d.get("moment_arm_coefficients_m")
         grid = d.get("spline")
         joints = tuple(d["coordinates"])
-        spline = SplineGrid(joints, {j: tuple(v) for j, v in grid["axes_deg"].items()},  # type: ignore[misc]
+        spline = SplineGrid(joints, {j: tuple(v) for j, v in grid["axes_deg"].items()},  # type: ignore[misc]  # the JSON grid's axes are tuples of floats at run time
                             {"length": grid["length_m"], **grid["moment_arm_m"]}) if grid else None
         out[m] = MusclePath(m, joints, tuple(tuple(e) for e in d["exponents"]),
                             tuple(d["coefficients_m"]), d["max_isometric_force_n"], d["optimal_fiber_length_m"],

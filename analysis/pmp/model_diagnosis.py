@@ -182,7 +182,7 @@ EXTENSIONS: dict[str, Extension] = {e.name: e for e in [
 ]}
 
 
-def is_material(finding: "ExtensionFinding") -> bool:
+def is_material(finding: ExtensionFinding) -> bool:
     """Whether any of the finding's parameters is away from zero (interval and size; :data:`MATERIAL_FRACTION`)."""
     ext = EXTENSIONS.get(finding.name)
     smallest = {}
@@ -301,7 +301,8 @@ def folds_of(trials: list[PmpTrial]) -> list[tuple[str, list[int]]]:
 
 #: without repeats, the held-out folds are blocks of every trial: each trial is cut into BLOCK_FOLDS ×
 #: BLOCKS_PER_FOLD contiguous time blocks and fold k leaves out blocks 1 + k, 1 + k + BLOCK_FOLDS, ... of
-#: every trial at once (the first and last blocks, the range's ends, are always fitted). Leaving a whole condition out instead asks the other conditions to extrapolate its
+#: every trial at once (the first and last blocks, the range's ends, are always fitted). Leaving a whole condition out instead
+#: asks the other conditions to extrapolate its
 #: muscles: with the hamstrings 1 % off, a left-out hip-90° sweep was predicted 827 N·m off (an OpenSim
 #: subject whose in-sample residual was 0.78 N·m), and nothing could be judged
 BLOCK_FOLDS = 4

@@ -51,7 +51,7 @@ class LegMuscles:
             self.params.setdefault(m, MuscleParameters(p.tendon_slack_length_m * self.length_scale,
                                                        p.passive_strain, p.tendon_strain))
 
-    def rescaled(self, factor: float) -> "LegMuscles":
+    def rescaled(self, factor: float) -> LegMuscles:
         """The same subject's parameters on paths ``factor`` times as long (a shank measured that much longer):
         path lengths, optimal fibre lengths and moment arms scale, the tendon parameters stay."""
         return LegMuscles(paths=self.paths, length_scale=self.length_scale * factor, params=dict(self.params))

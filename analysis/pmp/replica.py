@@ -420,7 +420,8 @@ def estimate_replica(holds: Holds, model: ReplicaModel | None = None, *, starts:
 def forward_check(model: ReplicaModel, holds: Holds, *, hold_s: float = 2.0, damping_nm_s_per_rad: float = 0.1) -> dict[str, Any]:
     """Forward dynamics of the fitted rig (``solve_ivp``, RK45: the slack kinks make Radau crawl):
     the shank released at each hold angle with the measured holding torque applied, for
-    ``hold_s``, damped by the bearing (0.1 N·m·s/rad). A right model stays put. RMSE of angle (deg) over all holds and of the model torque at the measured angles (N·m)."""
+    ``hold_s``, damped by the bearing (0.1 N·m·s/rad). A right model stays put. RMSE of angle (deg) over all holds and of the
+    model torque at the measured angles (N·m)."""
     errs = []
     for q0, u in zip(holds.knee_rad, holds.torque_nm):
         def rhs(t: float, x: np.ndarray, u: float = float(u)) -> list[float]:
@@ -481,14 +482,15 @@ def text(result: ReplicaResult, truth: dict[str, float] | None = None) -> str:
         else:  # which of the equally good fits the solver ended in says nothing: no point value, no error
             row = f"{name:8s} {'not determined':>16s} {ck:>17s} {'':>16s} {cl:>15s}"
             if truth and kn in truth and ln in truth:
-                inside = all(lo - 1e-9 * abs(lo) <= truth[n] <= hi + 1e-9 * abs(hi)
-                             for n in (kn, ln) for lo, hi in [sorted(result.alternatives.get(n, result.ci95.get(n, (np.nan, np.nan))))])
+                spreads = {n: sorted(result.alternatives.get(n, result.ci95.get(n, (np.nan, np.nan)))) for n in (kn, ln)}
+                inside = all(lo - 1e-9 * abs(lo) <= truth[n] <= hi + 1e-9 * abs(hi) for n, (lo, hi) in spreads.items())
                 row += "  truth " + ("inside" if inside else "outside") + " the spread"
         lines.append(row)
     v = result.verification
     lines.append(f"sensor zero {result.sensor_offset_nm:+.3f} ± {result.sensor_offset_se_nm:.3f} N·m")
     lines.append(f"residual RMS {result.residual_rms_nm:.4f} N·m over {result.holds.knee_rad.size} holds; forward check: "
-                 f"angle RMSE {v.get('angle_rmse_deg', float('nan')):.3f}°, torque RMSE {v.get('torque_rmse_nm', float('nan')):.4f} N·m")
+                 f"angle RMSE {v.get('angle_rmse_deg', float('nan')):.3f}°, "
+                 f"torque RMSE {v.get('torque_rmse_nm', float('nan')):.4f} N·m")
     return "\n".join(lines)
 
 

@@ -78,7 +78,7 @@ class DynamometerLimits:
 
     @classmethod
     def from_degrees(cls, rom_min_deg: float, rom_max_deg: float, max_speed_deg_s: float,
-                     max_torque_nm: float) -> "DynamometerLimits":
+                     max_torque_nm: float) -> DynamometerLimits:
         """Limits given in degrees (as a clinician sets them)."""
         return cls(math.radians(rom_min_deg), math.radians(rom_max_deg), math.radians(max_speed_deg_s), max_torque_nm)
 

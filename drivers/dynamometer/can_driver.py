@@ -62,7 +62,7 @@ class CanDynamometer(Dynamometer):
         super().__init__(**kwargs)
 
     @classmethod
-    def from_url(cls, url: DeviceUrl, **kwargs: Any) -> "CanDynamometer":
+    def from_url(cls, url: DeviceUrl, **kwargs: Any) -> CanDynamometer:
         opts = url.take({"node": int, "rate": int, "bitrate": int})
         channel = url.host or url.path or "0"  # a device path keeps its leading slash
         return cls(url.scheme, channel, **{**opts, **kwargs})
@@ -84,7 +84,7 @@ class CanDynamometer(Dynamometer):
         if self._bus is not None:
             try:
                 self._bus.shutdown()
-            except Exception:  # noqa: BLE001
+            except Exception:
                 pass
             self._bus = None
 

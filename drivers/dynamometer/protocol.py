@@ -134,7 +134,7 @@ class Telemetry:
                               _i16(self.velocity_deg_s, VELOCITY_LSB_DEG_S, "velocity"))
 
     @classmethod
-    def decode(cls, data: bytes) -> "Telemetry":
+    def decode(cls, data: bytes) -> Telemetry:
         if len(data) != TELEMETRY.size:
             raise ValueError(f"telemetry needs {TELEMETRY.size} bytes, got {len(data)}")
         c, t, p, v = TELEMETRY.unpack(data)
@@ -154,7 +154,7 @@ class Status:
                            _u16(self.torque_limit_nm, TORQUE_LIMIT_LSB_NM, "torque limit"), 0)
 
     @classmethod
-    def decode(cls, data: bytes) -> "Status":
+    def decode(cls, data: bytes) -> Status:
         if len(data) != STATUS.size:
             raise ValueError(f"status needs {STATUS.size} bytes, got {len(data)}")
         s, m, f, r, lim, _ = STATUS.unpack(data)

@@ -101,7 +101,7 @@ class DynamometerSimulator:
             self._thread.join(2.0)
         self.bus.shutdown()
 
-    def __enter__(self) -> "DynamometerSimulator":
+    def __enter__(self) -> DynamometerSimulator:
         return self
 
     def __exit__(self, *exc: object) -> None:

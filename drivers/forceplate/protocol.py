@@ -128,7 +128,7 @@ class PlateInfo:
             *np.asarray(self.origin_m, dtype=float), *self.size_m, self.model.encode()[:16])
 
     @classmethod
-    def from_payload(cls, payload: bytes) -> "PlateInfo":
+    def from_payload(cls, payload: bytes) -> PlateInfo:
         if len(payload) != INFO_PAYLOAD.size:
             raise ValueError(f"info payload has {len(payload)} bytes, expected {INFO_PAYLOAD.size}")
         v = INFO_PAYLOAD.unpack(payload)

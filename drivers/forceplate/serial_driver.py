@@ -64,7 +64,7 @@ class SerialForcePlate(ForcePlate):
         super().__init__(**kwargs)
 
     @classmethod
-    def from_url(cls, url: DeviceUrl, **kwargs: Any) -> "SerialForcePlate":
+    def from_url(cls, url: DeviceUrl, **kwargs: Any) -> SerialForcePlate:
         opts = url.take({"baud": int, "rate": int, "min_fz": float})
         if "min_fz" in opts:
             opts["min_fz_n"] = opts.pop("min_fz")
@@ -96,7 +96,7 @@ class SerialForcePlate(ForcePlate):
         if self._serial is not None:
             try:
                 self._serial.close()
-            except Exception:  # noqa: BLE001 - closing a dead link must not raise
+            except Exception:
                 pass
             self._serial = None
 
@@ -109,7 +109,7 @@ class SerialForcePlate(ForcePlate):
     def _on_stream_stop(self) -> None:
         try:
             self._command(p.Command.STOP)  # samples before the STOP reply are delivered
-        except Exception:  # noqa: BLE001 - best effort on the way out
+        except Exception:
             pass
         finally:
             self._streaming = False

@@ -95,7 +95,7 @@ class ForcePlateSimulator:
             self._thread.join(2.0)
         self.link.close()
 
-    def __enter__(self) -> "ForcePlateSimulator":
+    def __enter__(self) -> ForcePlateSimulator:
         return self
 
     def __exit__(self, *exc: object) -> None:

@@ -25,9 +25,9 @@ class SimulatedMarkerStream(MarkerStream):
         self._next_frame = 0
 
     @classmethod
-    def from_url(cls, url: DeviceUrl, **kwargs: Any) -> "SimulatedMarkerStream":
+    def from_url(cls, url: DeviceUrl, **kwargs: Any) -> SimulatedMarkerStream:
         opts = url.take({"rate": int})
-        return cls(url.host or url.path.strip("/"), **{**opts, **kwargs})  # type: ignore[arg-type]
+        return cls(url.host or url.path.strip("/"), **{**opts, **kwargs})  # type: ignore[arg-type]  # URL options are strings the constructor parses
 
     def _open_internal(self) -> None:
         sim = find_simulator(self.source)

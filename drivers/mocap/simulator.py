@@ -16,12 +16,12 @@ import numpy as np
 
 from ..simulation.aads_jig import AadsJig
 
-_registry: dict[str, "MarkerSimulator"] = {}
+_registry: dict[str, MarkerSimulator] = {}
 _registry_lock = threading.Lock()
 _ids = itertools.count()
 
 
-def find_simulator(name: str) -> "MarkerSimulator | None":
+def find_simulator(name: str) -> MarkerSimulator | None:
     with _registry_lock:
         return _registry.get(name)
 

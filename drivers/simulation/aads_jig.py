@@ -104,7 +104,7 @@ class BendProfile:
 
     @classmethod
     def random(cls, style: OperatorStyle, rng: np.random.Generator, cycles: int = 3,
-               neutral_deg: float = 5.0, rest_s: float = 0.6, rate_hz: float = 1000.0) -> "BendProfile":
+               neutral_deg: float = 5.0, rest_s: float = 0.6, rate_hz: float = 1000.0) -> BendProfile:
         """Raised-cosine bends with per-cycle peak and duration drawn from ``style``."""
         segments = [np.full(int(rest_s * rate_hz), 0.0)]
         for _ in range(cycles):
@@ -169,8 +169,8 @@ class AadsJig:
     # -- spring geometry (eqs 2.1-2.8)
     def spring(self, hinge_rad: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Spring length (m), force (N) and moment arm |AD| (m) at hinge angles (rad)."""
-        T = np.einsum("nij,j->ni", _rot_y(hinge_rad), self._T0)
-        bt = T - self._B
+        hook_top = np.einsum("nij,j->ni", _rot_y(hinge_rad), self._T0)
+        bt = hook_top - self._B
         length = np.linalg.norm(bt, axis=1)
         # eq 2.7 with A at the origin of these coordinates: q = BT·(A−B) / |BT|²
         q = np.einsum("ni,ni->n", bt, -self._B[None, :]) / length**2
@@ -208,9 +208,9 @@ class AadsJig:
 
         phi = th + tau / k_shell
         phi_dd = (shank_angle(t + dt) - 2 * phi + shank_angle(t - dt)) / dt**2
-        R = _rot_y(phi)
+        rot = _rot_y(phi)
         A = self._A
-        com_s = np.einsum("nij,j->ni", R, np.asarray(g.shank_com_m))
+        com_s = np.einsum("nij,j->ni", rot, np.asarray(g.shank_com_m))
         # COM acceleration of the shank (rotation about the fixed hinge): a = α × r − ω² r
         phi_d = (shank_angle(t + dt) - shank_angle(t - dt)) / (2 * dt)
         e_y = np.array([0.0, 1.0, 0.0])
@@ -219,10 +219,10 @@ class AadsJig:
         # operator: off-axis components, then the perpendicular force that closes the hinge balance
         wave = np.sin(2 * np.pi * self._off_freq[None] * t[:, None, None] + self._off_phase[None]).mean(1)
         s = self.style
-        top = np.einsum("nij,j->ni", R, np.asarray(g.pylon_top_m))
+        top = np.einsum("nij,j->ni", rot, np.asarray(g.pylon_top_m))
         lp = float(np.linalg.norm(g.pylon_top_m))
         e_axis = top / lp
-        e_perp = np.einsum("nij,j->ni", R, np.array([1.0, 0.0, 0.0]))
+        e_perp = np.einsum("nij,j->ni", rot, np.array([1.0, 0.0, 0.0]))
         m_op = np.column_stack([s.free_moment_nm * wave[:, 0], np.zeros_like(t), s.free_moment_nm * wave[:, 2]])
         f_axial = -s.axial_force_n * (0.5 + 0.5 * wave[:, 1])[:, None] * e_axis
         f_lat = (s.lateral_force_n * wave[:, 2])[:, None] * e_y
@@ -235,15 +235,15 @@ class AadsJig:
         f_op = f_perp + f_axial + f_lat
         # whole-jig balance: F_plate + F_op + Σ m g = Σ m a (foot is still)
         force = m_s * acc_s - f_op - (m_s + m_f) * gravity
-        O = self.plate_origin_m
-        r_s = A + com_s - O
-        r_f = A + np.asarray(g.foot_com_m) - O
-        r_p = A + top - O
-        dL = np.cross(r_s, m_s * acc_s) + (g.shank_inertia_kgm2 * phi_dd)[:, None] * e_y
-        moment = dL - (np.cross(r_p, f_op) + m_op) - np.cross(r_s, m_s * gravity) - np.cross(r_f, m_f * gravity)[None, :]
+        plate_origin = self.plate_origin_m
+        r_s = A + com_s - plate_origin
+        r_f = A + np.asarray(g.foot_com_m) - plate_origin
+        r_p = A + top - plate_origin
+        d_momentum = np.cross(r_s, m_s * acc_s) + (g.shank_inertia_kgm2 * phi_dd)[:, None] * e_y
+        moment = d_momentum - (np.cross(r_p, f_op) + m_op) - np.cross(r_s, m_s * gravity) - np.cross(r_f, m_f * gravity)[None, :]
         markers = {name: np.broadcast_to(A + np.asarray(p), (t.size, 3)).copy() for name, p in g.foot_markers.items()}
         for name, p in g.shank_markers.items():
-            markers[name] = A + np.einsum("nij,j->ni", R, np.asarray(p))
+            markers[name] = A + np.einsum("nij,j->ni", rot, np.asarray(p))
         markers["SPRING_TOP"] = A + np.einsum("nij,j->ni", _rot_y(th), self._T0)
         markers["SPRING_BOTTOM"] = np.broadcast_to(A + self._B, (t.size, 3)).copy()
         return JigState(t, th, phi, tau, spring_tau, force, moment, f_op, markers)

@@ -85,7 +85,7 @@ class SimulatedLab:
         self.dynamometer.close()
         self.torque_sensor.close()
 
-    def __enter__(self) -> "SimulatedLab":
+    def __enter__(self) -> SimulatedLab:
         return self
 
     def __exit__(self, *exc: object) -> None:

@@ -88,7 +88,8 @@ class SeatedLeg:
             i_shank = self.shank_mass_kg * (0.302 * self.shank_length_m) ** 2 + self.shank_mass_kg * self.shank_com_m**2
             i_foot = self.foot_mass_kg * self.shank_length_m**2
             return i_shank + i_foot + self.arm_mass_kg * self.arm_com_m**2
-        return self.foot_mass_kg * (0.475 * self.foot_length_m) ** 2 + self.foot_mass_kg * self.foot_com_m**2 + self.arm_mass_kg * self.arm_com_m**2
+        return (self.foot_mass_kg * (0.475 * self.foot_length_m) ** 2 + self.foot_mass_kg * self.foot_com_m**2
+                + self.arm_mass_kg * self.arm_com_m**2)
 
     def passive_moment_nm(self, position_deg: np.ndarray) -> np.ndarray:
         """Elastic joint moment toward positive angles (N·m)."""
@@ -103,7 +104,8 @@ class SeatedLeg:
         th = np.deg2rad(np.asarray(position_deg, dtype=float))
         if self.joint == "knee":
             # shank horizontal at 0° flexion, hanging at 90°: gravity pulls toward flexion
-            limb = (self.shank_mass_kg * self.shank_com_m + self.foot_mass_kg * self.shank_length_m) * self.gravity_m_s2 * np.cos(th)
+            limb = ((self.shank_mass_kg * self.shank_com_m + self.foot_mass_kg * self.shank_length_m)
+                    * self.gravity_m_s2 * np.cos(th))
             arm = self.arm_mass_kg * self.arm_com_m * self.gravity_m_s2 * np.cos(th)
         else:
             # foot elevation above horizontal = dorsiflexion + 90° − knee flexion; gravity plantarflexes

@@ -39,6 +39,9 @@ from . import registers as r
 # pymodbus logs every failed transaction at ERROR; the driver counts and reports them itself
 logging.getLogger("pymodbus").setLevel(logging.CRITICAL)
 
+#: the transmitter's register layout unless the URL or the caller gives another
+DEFAULT_REGISTERS = r.RegisterMap()
+
 RPM_TO_RAD_S = 2 * np.pi / 60.0
 T = TypeVar("T")
 
@@ -67,7 +70,7 @@ class ModbusTorqueSensor(TorqueSensor):
 
     def __init__(self, port: str, *, framing: str = "rtu", unit: int = 1, baud: int = 115200,
                  word_order: r.WordOrder = "big", rate: float | None = None, read_speed: bool = False,
-                 timeout_s: float = 0.05, registers: r.RegisterMap = r.RegisterMap(), **kwargs: Any) -> None:
+                 timeout_s: float = 0.05, registers: r.RegisterMap = DEFAULT_REGISTERS, **kwargs: Any) -> None:
         if framing not in ("rtu", "tcp"):
             raise ValueError("framing must be 'rtu' or 'tcp'")
         if word_order not in ("big", "little"):
@@ -104,7 +107,7 @@ class ModbusTorqueSensor(TorqueSensor):
         super().__init__(**kwargs)
 
     @classmethod
-    def from_url(cls, url: DeviceUrl, **kwargs: Any) -> "ModbusTorqueSensor":
+    def from_url(cls, url: DeviceUrl, **kwargs: Any) -> ModbusTorqueSensor:
         opts = url.take({"unit": int, "baud": int, "word_order": str, "rate": float, "speed": bool,
                          "timeout": float})
         if "speed" in opts:
@@ -202,7 +205,7 @@ class ModbusTorqueSensor(TorqueSensor):
         if self._client is not None:
             try:
                 self._client.close()
-            except Exception:  # noqa: BLE001
+            except Exception:
                 pass
             self._client = None
 
@@ -213,7 +216,7 @@ class ModbusTorqueSensor(TorqueSensor):
         """
         owner = self._loop_owner
         if owner is None or owner is threading.current_thread() or not owner.is_alive():
-            return self._loop.run_until_complete(make())  # type: ignore[arg-type]
+            return self._loop.run_until_complete(make())  # type: ignore[arg-type]  # pymodbus's coroutine types are looser than the loop's
         future: concurrent.futures.Future[Any] = concurrent.futures.Future()
         self._calls.put((make, future))
         return future.result(timeout=5.0)
@@ -225,8 +228,8 @@ class ModbusTorqueSensor(TorqueSensor):
             except queue.Empty:
                 return
             try:
-                future.set_result(self._loop.run_until_complete(make()))  # type: ignore[arg-type]
-            except BaseException as err:  # noqa: BLE001 - handed back to the caller
+                future.set_result(self._loop.run_until_complete(make()))  # type: ignore[arg-type]  # pymodbus's coroutine types are looser than the loop's
+            except BaseException as err:
                 future.set_exception(err)
 
     def _read_registers(self, address: int, count: int, *, probe: bool = False) -> list[int] | None:
@@ -242,7 +245,7 @@ class ModbusTorqueSensor(TorqueSensor):
             rr = self._run(lambda: client.read_holding_registers(address, count=count, device_id=self.unit))
         except ConnectionException as err:
             raise ConnectionLostError(f"{self.name}: link to {self.port} lost: {err}") from err
-        except (ModbusException, asyncio.TimeoutError):
+        except (TimeoutError, ModbusException):
             if self._bad_crc_seen:
                 self.stats.crc_errors += 1
             elif not self._reply_bytes_seen:  # silence: the poll timed out (a loaded host, a dead line)
@@ -252,7 +255,7 @@ class ModbusTorqueSensor(TorqueSensor):
             return None
         except OSError as err:
             raise ConnectionLostError(f"{self.name}: link to {self.port} lost: {err}") from err
-        except Exception:  # noqa: BLE001 - a reply pymodbus could not make sense of is one bad frame
+        except Exception:
             self.stats.malformed_frames += 1
             return None
         if rr.isError():
@@ -357,7 +360,7 @@ class ModbusTorqueSensor(TorqueSensor):
             raise ConnectionLostError(f"{self.name}: not connected")
         try:
             rr = self._run(lambda: client.write_register(self.registers.tare, 1, device_id=self.unit))
-        except (ModbusException, asyncio.TimeoutError) as err:
+        except (TimeoutError, ModbusException) as err:
             raise DeviceTimeoutError(f"{self.name}: tare not answered: {err}") from err
         if rr.isError():
             raise CommandRefusedError(f"{self.name}: tare refused ({rr})")

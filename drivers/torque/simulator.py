@@ -279,7 +279,7 @@ class TorqueSensorSimulator:
         if self.link is not None:
             self.link.close()
 
-    def __enter__(self) -> "TorqueSensorSimulator":
+    def __enter__(self) -> TorqueSensorSimulator:
         return self
 
     def __exit__(self, *exc: object) -> None:

@@ -51,7 +51,7 @@ class FrameCounter:
 class MainWindow(QtWidgets.QMainWindow):
     """One operator, one subject, one session; trials recorded into ``store`` from ``source``'s devices."""
 
-    sigAnalysis = QtCore.Signal(str)
+    analysis_ready = QtCore.Signal(str)
 
     def __init__(self, store: SessionStore, source: Any, *, subject_code: str = "SIM01", operator: str = "operator-1",
                  limits: SafetyLimits | None = None) -> None:
@@ -73,7 +73,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self.analysis_text = ""
         self.setWindowTitle("AFO & passive-muscle lab instrument" + (" — SIMULATION" if source.simulated else ""))
         self._build()
-        self.sigAnalysis.connect(self._show_analysis)
+        self.analysis_ready.connect(self._show_analysis)
         self.timer = QtCore.QTimer(self)
         self.timer.timeout.connect(self._refresh)
         self.timer.start(int(1000 / REFRESH_HZ))
@@ -338,7 +338,7 @@ class MainWindow(QtWidgets.QMainWindow):
             return False
         try:
             old = self.store.subject(self._subject_code).as_dict()
-        except Exception:  # noqa: BLE001 - a new subject
+        except Exception:
             old = {"code": self._subject_code}
         self.store.add_subject(Subject(**{**old, **self._subject_entries()}))
         self.subject_label.setText(f"{self._subject_code} saved")
@@ -384,7 +384,7 @@ class MainWindow(QtWidgets.QMainWindow):
             if not (self._anthropometrics_ok() and self.save_subject()):  # entries kept only when valid
                 try:
                     self.store.subject(self._subject_code)
-                except Exception:  # noqa: BLE001 - a new subject, its anthropometrics still to be entered
+                except Exception:
                     self.store.add_subject(Subject(self._subject_code))
             self._session_id = self.store.new_session(self._subject_code, self.operator, notes="gui")
         return self._session_id
@@ -429,7 +429,7 @@ class MainWindow(QtWidgets.QMainWindow):
                 while not runner.wait(0.2):
                     if self._closing.is_set() and runner.snapshot().phase == "running":
                         runner.request_stop()
-        except Exception as err:  # noqa: BLE001 - shown to the operator by the timer
+        except Exception as err:
             self._setup_error = f"{type(err).__name__}: {err}"
 
     def stop_trial(self) -> None:
@@ -447,7 +447,8 @@ class MainWindow(QtWidgets.QMainWindow):
             return
         self.runner.accept()
         self._last_verdict = "accepted"
-        self.verdict.setText(f"Trial {self.runner.snapshot().outcome.trial_id} accepted.")  # type: ignore[union-attr]
+        outcome = self.runner.snapshot().outcome
+        self.verdict.setText(f"Trial {outcome.trial_id if outcome is not None else '?'} accepted.")
         self._analyse_in_background(self.runner)
         self._next_trial_number()
         self._update_buttons()
@@ -480,9 +481,9 @@ class MainWindow(QtWidgets.QMainWindow):
         def work() -> None:
             try:
                 text = analyse_set(protocol, store_root, outcome.trial_id, subject)
-            except Exception as err:  # noqa: BLE001 - shown, never crashes the window
+            except Exception as err:
                 text = f"analysis failed: {type(err).__name__}: {err}"
-            self.sigAnalysis.emit(text)
+            self.analysis_ready.emit(text)
 
         self.tabs.setTabText(1, "Results (analysing …)")
         threading.Thread(target=work, name="set-analysis", daemon=True).start()

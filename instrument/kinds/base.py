@@ -47,14 +47,14 @@ class TrialProtocol(ABC):
     def condition(self) -> dict[str, Any]:
         """The trial's condition (JSON), units in the keys."""
 
-    def prepare(self, devices: dict[str, StreamingDevice]) -> None:
+    def prepare(self, devices: dict[str, StreamingDevice]) -> None:  # noqa: B027 - an optional hook; doing nothing is the default
         """Set the devices up before recording starts (positioning, limits). Default: nothing."""
 
     @abstractmethod
     def drive(self, devices: dict[str, StreamingDevice], mark: Any, stop: threading.Event) -> None:
         """Run the trial while recording; ``mark(kind, **fields)`` writes an event into the trial."""
 
-    def shutdown(self, devices: dict[str, StreamingDevice], mark: Any) -> None:
+    def shutdown(self, devices: dict[str, StreamingDevice], mark: Any) -> None:  # noqa: B027 - an optional hook; doing nothing is the default
         """Leave the devices safe; runs after every trial, however it ended (operator stop, error,
         e-stop, normal end), while the recording still runs. Must not raise. Default: nothing."""
 
@@ -305,9 +305,10 @@ class TrialKind(ABC):
     def simulated_rig(self, protocol: TrialProtocol, subject: dict[str, float], afo: Any) -> dict[str, Any]:
         """The simulated lab's configuration for ``protocol`` (keyword arguments of ``LabConfig``)."""
 
-    def simulated_operator(self, protocol: TrialProtocol, lab: Any) -> None:
+    def simulated_operator(self, protocol: TrialProtocol, lab: Any) -> None:  # noqa: B027 - an optional hook; doing nothing is the default
         """Give ``protocol`` the simulated operator's hand in ``lab`` (default: none needed)."""
 
 
-__all__ = ["diagnosis_line", "live_check_agreement", "AFO_STIFFNESS", "HALT_RECORD_PERIODS", "PASSIVE_PARAMETERS", "POSITIONING_SPEED_DEG_S", "REPLICA_SPRINGS",
+__all__ = ["diagnosis_line", "live_check_agreement", "AFO_STIFFNESS", "HALT_RECORD_PERIODS", "PASSIVE_PARAMETERS",
+           "POSITIONING_SPEED_DEG_S", "REPLICA_SPRINGS",
            "Action", "Curves", "LiveView", "Parameter", "TrialKind", "TrialProtocol", "wait_or_stop"]

@@ -187,7 +187,7 @@ class AcquisitionEngine:
         if self.writer is not None and self.recording_error is None:
             try:
                 self.writer.append(name, channels)
-            except Exception as err:  # noqa: BLE001 - recorded once, acquisition continues live
+            except Exception as err:
                 self.recording_error = err
                 log.error("recording stopped: %s", err)
 

@@ -113,8 +113,8 @@ class AadsLoopWatch:
     """The torque–angle loop from the latest markers and plate samples (the analysis's own pipeline)."""
 
     def __init__(self, protocol: TrialProtocol, identities: dict[str, Any]) -> None:
-        self.fit_window_deg: tuple[float, float] = protocol.fit_window_deg  # type: ignore[attr-defined]
-        self.stop_deg: float = protocol.stop_deg  # type: ignore[attr-defined]
+        self.fit_window_deg: tuple[float, float] = protocol.fit_window_deg  # type: ignore[attr-defined]  # the live AADS loop runs only for protocols that have a fit window
+        self.stop_deg: float = protocol.stop_deg  # type: ignore[attr-defined]  # the live AADS loop runs only for protocols that have a stop
         self.identities = identities
 
     def check(self, rings: dict[str, Any]) -> AadsLoop | None:

@@ -163,7 +163,8 @@ class TrialWriter:
         self._datasets.clear()
         f: h5py.File | None = self._file
         try:
-            f.close()  # type: ignore[union-attr]
+            assert f is not None  # finish() runs once, on an open file
+            f.close()
             f = h5py.File(self.path, "r+")
             f.attrs["status"] = status
             f.attrs["summary"] = json.dumps({**(summary or {}), "writer": _stats_dict(self.stats)},
@@ -186,7 +187,7 @@ class TrialWriter:
         self._datasets.clear()
         try:
             self._file.close()
-        except Exception:  # noqa: BLE001 - the file may be half-written; recovery handles it
+        except Exception:
             pass
 
     def _detach_file(self) -> None:
@@ -216,7 +217,7 @@ class TrialWriter:
                 if self._error is None:
                     try:
                         self._write(pending, events)
-                    except Exception as err:  # noqa: BLE001 - becomes the writer's typed error
+                    except Exception as err:
                         full = _is_disk_full(err)
                         why = "disk full (no space left on device)" if full else str(err).splitlines()[0][:160]
                         self._error = (DiskFullError if full else RecordingError)(
@@ -494,13 +495,13 @@ def _detach_and_close(f: h5py.File, path: Path, before_close: Callable[[], None]
             os.dup2(null, fd)
         finally:
             os.close(null)
-    except Exception:  # noqa: BLE001 - best effort; the file is closed below either way
+    except Exception:
         log.exception("%s: could not detach the file after a write error", path)
     if before_close is not None:  # handles to the file's objects go only now: closing them writes too
         before_close()
     try:
         f.close()
-    except Exception:  # noqa: BLE001 - nothing more can be written; the disk keeps the last flush
+    except Exception:
         pass
 
 

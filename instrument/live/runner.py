@@ -13,8 +13,9 @@ from __future__ import annotations
 
 import threading
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
@@ -135,7 +136,7 @@ class TrialRunner:
             sent_s, send_error = now, None
             try:
                 sent_s = dyno.emergency_stop()
-            except Exception as err:  # noqa: BLE001 - re-sent by the confirming thread
+            except Exception as err:
                 send_error = err
             with self._lock:
                 first = self._state.emergency_stop_s is None
@@ -222,7 +223,7 @@ class TrialRunner:
                     frames += 1
                     try:
                         dyno.emergency_stop()
-                    except Exception as err:  # noqa: BLE001 - counted as a frame that did not arrive
+                    except Exception as err:
                         self._mark("emergency_stop_send_failed", error=str(err))
                     self._mark("emergency_stop_resent", frame=frames)
                     deadline = time.monotonic() + window_s
@@ -240,11 +241,11 @@ class TrialRunner:
             try:
                 dyno.halt()
                 self._mark("halted", by="command after an unconfirmed emergency stop")
-            except Exception as err:  # noqa: BLE001 - the watchdog below is the last resort
+            except Exception as err:
                 self._mark("halt_failed", error=str(err))
             dyno.suspend_heartbeat(True)  # the device's watchdog stops any motion it still makes
             self._mark("heartbeat_withdrawn")
-        except Exception as err:  # noqa: BLE001 - the operator must see it; the trial still ends
+        except Exception as err:
             with self._lock:
                 self._state.estop_unconfirmed = f"emergency stop confirmation failed: {err}"
         finally:
@@ -265,7 +266,7 @@ class TrialRunner:
             with self._lock:
                 self._state.outcome = outcome
                 self._state.phase = "done"
-        except Exception as err:  # noqa: BLE001 - shown to the operator; what was recorded stays on disk
+        except Exception as err:
             with self._lock:
                 self._state.error = f"{type(err).__name__}: {err}"
                 self._state.phase = "failed"

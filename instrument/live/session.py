@@ -39,7 +39,7 @@ class TrialOutcome:
 
 def settings_snapshot(protocol: TrialProtocol, extra: dict[str, Any] | None = None) -> dict[str, Any]:
     """Everything that defines how a trial was taken (as QCoDeS's station snapshot)."""
-    fields: dict[str, Any] = asdict(protocol) if is_dataclass(protocol) else {}  # type: ignore[arg-type]
+    fields: dict[str, Any] = asdict(protocol) if is_dataclass(protocol) else {}  # type: ignore[arg-type]  # a dataclass protocol's fields, checked by is_dataclass
     proto = {k: v for k, v in fields.items() if not callable(v)}
     return {
         "software": {"name": "afo-gait-instrument", "version": __version__, "python": platform.python_version(),

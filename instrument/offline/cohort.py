@@ -118,7 +118,8 @@ def study_from_store(store: SessionStore, codes: Sequence[str] | None = None,
     out = []
     skipped: list[str] = []
     for code in wanted:
-        records = [t for t in store.trials() if t.subject_code == code and t.protocol in kinds.names_feeding(kinds.PASSIVE_PARAMETERS)]
+        passive = kinds.names_feeding(kinds.PASSIVE_PARAMETERS)
+        records = [t for t in store.trials() if t.subject_code == code and t.protocol in passive]
         usable = [t for t in records if t.status in USABLE_STATUSES and t.repeated_by is None]
         excluded = [f"trial {t.id} ({t.protocol}): {t.status}" + (f", repeated by {t.repeated_by}"
                                                                    if t.repeated_by else "")
@@ -244,7 +245,7 @@ def run_cohort(study: list[StudySubject], results: ResultSink, *, bootstrap: int
             task, kind = meta.pop(fut.key)
             try:
                 result = fut.result()
-            except Exception as err:  # noqa: BLE001 - a task that raised: counted, named, the run goes on
+            except Exception as err:
                 failed_n += 1
                 done += 1
                 failed.append(f"{task.subject_code} replicate {task.replicate}: {type(err).__name__}: {err}")
@@ -331,7 +332,8 @@ def analyze_cohort(store: SessionStore, out_dir: Path, *, codes: Sequence[str] |
     study = study_from_store(store, codes, left_out) if codes or any(
         t.protocol in kinds.names_feeding(kinds.PASSIVE_PARAMETERS) for t in store.trials()) else []
     run = run_cohort(study, store, bootstrap=bootstrap, intervals=intervals, seed=seed, scheduler=scheduler,
-                     workers=workers, progress=progress, client=client) if study else CohortRun([], 0, 0, 0, [], 0.0, 0.0, 0, "none", {})
+                     workers=workers, progress=progress, client=client) if study else CohortRun([], 0, 0, 0, [], 0.0, 0.0, 0,
+                                                                                                "none", {})
     run.afo_sets = afo
     run.left_out = left_out
     if not study and not afo:

@@ -74,7 +74,7 @@ POLLED_DEVICES = frozenset({"torque_sensor"})
 
 def _row(name: str, res: StreamResult, lab: SimulatedLab) -> dict[str, Any]:
     st = res.stats
-    rate = float(st["rate_hz"])  # type: ignore[arg-type]
+    rate = float(st["rate_hz"])  # type: ignore[arg-type]  # the stream's stats mix counts and a rate
     return {"device": name, "samples": res.samples, "rate_hz": rate, "gaps": st["gaps"],
             "lost_samples": st["lost_samples"], "crc_errors": st["crc_errors"],
             "malformed_frames": st["malformed_frames"], "poll_timeouts": st["poll_timeouts"],

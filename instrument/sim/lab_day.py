@@ -101,7 +101,7 @@ def record_lab_day(store_dir: Path, quick: bool = True,
                 continue
             try:
                 with simulated_devices(proto, lab_config_for(proto, seed=i)) as (lab, devices):
-                    outcomes[i] = record_trial(_InTurn(store, turns, i), sessions[r], proto,  # type: ignore[arg-type]
+                    outcomes[i] = record_trial(_InTurn(store, turns, i), sessions[r], proto,  # type: ignore[arg-type]  # _InTurn forwards every store call in turn (a proxy, not a SessionStore)
                                                devices, operator=f"{r}-operator", trial_number=1,
                                                extra_metadata=simulation_metadata(lab))
                 if progress is not None:
@@ -110,7 +110,7 @@ def record_lab_day(store_dir: Path, quick: bool = True,
                         o = outcomes[i]
                         progress(f"  lab day: {done[0]}/{len(trials)} trials recorded ({r} room: {proto.name} "
                                  f"{proto.condition_text()}, {o.status if o else '?'}, {o.duration_s if o else 0:.1f} s)")
-            except BaseException as err:  # noqa: BLE001 - reported after the other rooms finish
+            except BaseException as err:
                 errors.append(err)
             finally:
                 turns.done(i)  # a trial that failed before registering does not hold the others up

@@ -56,7 +56,8 @@ def simulation_metadata(lab: SimulatedLab) -> dict[str, Any]:
     """The simulator's ground truth, stored with a simulated trial (for validation, never for analysis)."""
     c = lab.config
     truth: dict[str, Any] = {"seed": c.seed, "afo": asdict(c.afo), "leg": {k: v for k, v in asdict(c.leg).items()
-                                                                          if k not in ("bursts", "passive_table_deg", "passive_table_nm")},
+                                                                          if k not in ("bursts", "passive_table_deg",
+                                                                                       "passive_table_nm")},
                              "replica_shank_mass_kg": c.replica.shank_mass_kg,
                              "replica_springs": {f"{sp.name}.{k}": float(getattr(sp, k)) for sp in c.replica.springs
                                                  for k in ("stiffness_n_per_m", "rest_length_m")},

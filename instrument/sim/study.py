@@ -138,7 +138,7 @@ def record_study(store_dir: Path, subjects: int, *, seed: int = 0, speed_deg_s: 
                     done[0] += 1
                     progress(f"  study: {done[0]}/{len(jobs)} trials recorded ({subject.code} {proto.name} "
                              f"{proto.fixed_joint_text()}: {out.status})")
-            except BaseException as err:  # noqa: BLE001 - re-raised after the other rooms stop
+            except BaseException as err:
                 errors.append(err)
 
     threads = [threading.Thread(target=room, args=(k,), name=f"study-room-{k}") for k in range(ROOMS)]

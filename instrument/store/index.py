@@ -154,7 +154,7 @@ class SessionStore(ResultsIndex):
     def close(self) -> None:
         self._db.close()
 
-    def __enter__(self) -> "SessionStore":
+    def __enter__(self) -> SessionStore:
         return self
 
     def __exit__(self, *exc: object) -> None:
@@ -213,7 +213,8 @@ class SessionStore(ResultsIndex):
         with self._write() as db:
             cur = db.execute("INSERT INTO sessions (subject_id, started_at, operator, notes) VALUES (?, ?, ?, ?)",
                              (row[0], time.time(), operator, notes))
-        return int(cur.lastrowid)  # type: ignore[arg-type]
+        assert cur.lastrowid is not None  # an INSERT sets it
+        return int(cur.lastrowid)
 
     def sessions(self) -> list[dict[str, Any]]:
         rows = self._db.execute(
@@ -239,7 +240,8 @@ class SessionStore(ResultsIndex):
                 "started_at, software_version, writer_host, writer_pid) VALUES (?, ?, ?, ?, ?, 'recording', ?, ?, ?, ?)",
                 (session_id, protocol, json.dumps(condition), operator, trial_number, time.time(), __version__,
                  socket.gethostname(), os.getpid()))
-            trial_id = int(cur.lastrowid)  # type: ignore[arg-type]
+            assert cur.lastrowid is not None  # an INSERT sets it
+            trial_id = int(cur.lastrowid)
             db.execute("INSERT INTO trial_files (trial_id, role, path) VALUES (?, 'data', ?)", (trial_id, str(rel)))
         self._locks[trial_id] = lock
         return trial_id, path
@@ -328,7 +330,7 @@ def _connect_read_only(db: Path) -> sqlite3.Connection:
         return sqlite3.connect(f"file:{db}?immutable=1", uri=True, check_same_thread=False)
 
 
-def open_store(root: str | Path) -> "SessionStore":
+def open_store(root: str | Path) -> SessionStore:
     """Open a store to read it: writable (so interrupted trials are recovered) where possible,
     read-only where the folder or medium cannot be written."""
     try:

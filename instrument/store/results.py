@@ -45,7 +45,8 @@ class ResultsIndex:
         versions = software_versions()
         with self._write() as db:
             cur = db.execute(
-                f"INSERT OR {'REPLACE' if replace else 'IGNORE'} INTO analysis_results (key, kind, subject_code, label, inputs_json, settings_json, "
+                f"INSERT OR {'REPLACE' if replace else 'IGNORE'} INTO analysis_results (key, kind, subject_code, label, "
+                "inputs_json, settings_json, "
                 "versions_json, result_json, created_at) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)",
                 (key, kind, subject_code, label, json.dumps(inputs or {}, default=str),
                  json.dumps(settings or {}, default=str), json.dumps(versions), json.dumps(result, default=float),

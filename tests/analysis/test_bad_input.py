@@ -17,7 +17,7 @@ from analysis.trial_csv import MAX_ROWS, TrialTable, read_trial_csv, write_trial
 from instrument.cli import main as cli_main
 
 
-def _knee_csv(path: Path, **sidecar_overrides) -> Path:  # noqa: ANN003
+def _knee_csv(path: Path, **sidecar_overrides) -> Path:
     t = np.arange(0.0, 10.0, 0.01)
     table = TrialTable({"time_s": t, "angle_deg": 5.0 * t, "torque_Nm": 0.1 * t},
                        {"kind": "knee", "hip_flexion_deg": 90.0,
@@ -35,7 +35,7 @@ json_values = st.recursive(st.none() | st.booleans() | st.floats() | st.integers
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(st.dictionaries(st.sampled_from(["kind", "hip_flexion_deg", "knee_flexion_deg", "subject", "x"]), json_values)
        | json_values)
-def test_any_sidecar_is_read_or_refused_with_a_data_file_error(tmp_path: Path, sidecar) -> None:  # noqa: ANN001
+def test_any_sidecar_is_read_or_refused_with_a_data_file_error(tmp_path: Path, sidecar) -> None:
     path = _knee_csv(tmp_path / "t.csv")
     path.with_suffix(".json").write_text(json.dumps(sidecar, allow_nan=True))
     try:
@@ -73,7 +73,7 @@ def test_any_bytes_as_a_csv_are_read_or_refused_with_a_data_file_error(tmp_path:
      "subject.mass_kg"),
     (lambda p: p.with_suffix(".json").write_text('{"kind": "knee", "hip_flexion_deg": 400}'), "hip_flexion_deg"),
 ])
-def test_malformed_trial_csvs_are_one_line_data_errors(tmp_path: Path, capsys, mutate, words) -> None:  # noqa: ANN001
+def test_malformed_trial_csvs_are_one_line_data_errors(tmp_path: Path, capsys, mutate, words) -> None:
     path = _knee_csv(tmp_path / "t.csv")
     mutate(path)
     before = path.read_bytes()
@@ -91,7 +91,7 @@ def test_malformed_trial_csvs_are_one_line_data_errors(tmp_path: Path, capsys, m
     ({"trial_status": "rejected"}, "rejected trial"),
 ])
 def test_implausible_or_missing_trial_facts_are_refused_not_defaulted(tmp_path: Path, capsys, overrides,
-                                                                       words) -> None:  # noqa: ANN001
+                                                                       words) -> None:
     path = _knee_csv(tmp_path / "t.csv", **overrides)
     assert cli_main(["analyze", "pmp", str(path), "--out", str(tmp_path / "out")]) == 1
     err = capsys.readouterr().err.strip().splitlines()

@@ -18,7 +18,8 @@ def test_determined_parameters_are_recovered_within_3_5_percent(seed: int) -> No
     # the simulated subject's anthropometry is exact (the model made the trials): no measurement uncertainty
     subject = dataclasses.replace(subject, shank_length_sd_m=0.0, set_angle_sd_rad=0.0, mass_sd_kg=0.0)
     res = estimate(trials, subject, intervals=24)
-    assert res.success and res.status == "Solve_Succeeded" and res.cost < 1.0  # the fit reaches the noise: σ-normalised cost ≈ 0.4
+    # the fit reaches the noise: σ-normalised cost ≈ 0.4
+    assert res.success and res.status == "Solve_Succeeded" and res.cost < 1.0
     idf = identifiability(res, trials, subject)
     # the dissertation's problem: not all are (with the model's own ε₀ = 0.7 the knee muscles carry
     # less passive force than at DGF's default 0.6, so fewer are determined than before)

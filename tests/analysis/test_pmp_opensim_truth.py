@@ -15,7 +15,7 @@ from tests.opensim_reference import have_opensim
 pytestmark = pytest.mark.skipif(not have_opensim(), reason="OpenSim (test extra) is the independent truth")
 
 @pytest.fixture(scope="module")
-def generic():  # noqa: ANN201
+def generic():
     from benchmarks.opensim_truth import MODEL, generic_parameters
 
     if not MODEL.exists():
@@ -23,7 +23,7 @@ def generic():  # noqa: ANN201
     return generic_parameters()
 
 
-def _fit(seed: int, generic, variant: str):  # noqa: ANN001, ANN202
+def _fit(seed: int, generic, variant: str):
     from benchmarks.pmp_opensim import fit_subject
 
     truth, made, res, idf, _ = fit_subject(seed, generic, variant, intervals=24)

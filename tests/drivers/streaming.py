@@ -21,11 +21,12 @@ _n = [0]
 
 
 @contextmanager
-def device_with_simulator(kind: str, faults: FaultConfig | None = None, seed: int = 0) -> Iterator[tuple[StreamingDevice, object]]:
+def device_with_simulator(kind: str, faults: FaultConfig | None = None, seed: int = 0) -> Iterator[tuple[StreamingDevice,
+                                                                                                         object]]:
     faults = faults or FaultConfig()
     if kind == "force_plate":
         sim: object = ForcePlateSimulator(AadsJig(seed=seed), 1000, faults=faults, seed=seed)
-        dev: StreamingDevice = open_force_plate(sim.url, silence_timeout_s=0.5)  # type: ignore[attr-defined]
+        dev: StreamingDevice = open_force_plate(sim.url, silence_timeout_s=0.5)  # type: ignore[attr-defined]  # each simulator has its own url
     elif kind == "dynamometer":
         _n[0] += 1
         channel = f"test-dyno-{_n[0]}"
@@ -33,12 +34,12 @@ def device_with_simulator(kind: str, faults: FaultConfig | None = None, seed: in
         dev = open_dynamometer(f"virtual://{channel}", silence_timeout_s=0.5)
     else:
         sim = TorqueSensorSimulator(faults=faults, seed=seed)
-        dev = open_torque_sensor(sim.url, silence_timeout_s=0.5)  # type: ignore[attr-defined]
+        dev = open_torque_sensor(sim.url, silence_timeout_s=0.5)  # type: ignore[attr-defined]  # each simulator has its own url
     try:
         yield dev, sim
     finally:
         dev.close()
-        sim.close()  # type: ignore[attr-defined]
+        sim.close()  # type: ignore[attr-defined]  # each simulator has close()
 
 
 def collect(dev: StreamingDevice, seconds: float, until: Any = None,

@@ -69,7 +69,7 @@ def test_wrap_gaps_and_repeats_are_still_told_apart() -> None:
 @settings(max_examples=200, deadline=None)
 @given(st.integers(0, 65535), st.integers(50, 400), st.lists(st.tuples(st.integers(1, 398), st.integers(0, 65535)),
                                                              max_size=5))
-def test_random_corrupted_counters_never_cost_a_valid_sample(start: int, n: int, bad) -> None:  # noqa: ANN001
+def test_random_corrupted_counters_never_cost_a_valid_sample(start: int, n: int, bad) -> None:
     raw = [(start + i) % 65536 for i in range(n)]
     corrupted = set()
     for index, value in bad:

@@ -8,6 +8,8 @@ import time
 import can
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from drivers import DriverError, LimitViolationError
 from drivers.dynamometer import DynamometerLimits, open_dynamometer
@@ -135,10 +137,6 @@ def test_values_the_wire_cannot_carry_never_reach_the_bus(rig, action) -> None:
     with pytest.raises(LimitViolationError):
         action(dyno)
     assert _commands_seen(spy, dyno.ids["command"]) == []
-
-
-from hypothesis import given, settings  # noqa: E402
-from hypothesis import strategies as st  # noqa: E402
 
 _any_float = st.floats(allow_nan=True, allow_infinity=True)
 

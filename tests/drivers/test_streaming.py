@@ -37,7 +37,7 @@ def test_force_plate_delivers_the_jig_physics() -> None:
         blocks, _, _ = collect(dev, 1.0)
     c = counters(blocks)
     f = np.concatenate([b.force_n for b in blocks])
-    truth = sim.jig.state(c / 1000.0).force_n  # type: ignore[attr-defined]
+    truth = sim.jig.state(c / 1000.0).force_n  # type: ignore[attr-defined]  # the plate simulator has its jig
     resid = f - truth
     assert np.abs(resid.mean(axis=0)).max() < 0.1  # N: calibration and zero applied correctly
     assert resid.std(axis=0).max() < 0.4  # N: the simulator's 0.25 N noise plus ADC steps

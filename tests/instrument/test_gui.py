@@ -8,14 +8,14 @@ import numpy as np
 import pytest
 
 pytest.importorskip("pytestqt")
-from PySide6 import QtCore, QtGui  # noqa: E402
+from PySide6 import QtCore, QtGui
 
-from drivers.dynamometer.protocol import State  # noqa: E402
-from instrument import kinds  # noqa: E402
-from instrument.gui.window import MainWindow  # noqa: E402
-from instrument.live.recording import read_trial  # noqa: E402
-from instrument.sim.source import SimulatedSource  # noqa: E402
-from instrument.store import SessionStore  # noqa: E402
+from drivers.dynamometer.protocol import State
+from instrument import kinds
+from instrument.gui.window import MainWindow
+from instrument.live.recording import read_trial
+from instrument.sim.source import SimulatedSource
+from instrument.store import SessionStore
 
 
 def non_blank(path: Path) -> bool:
@@ -28,7 +28,7 @@ def non_blank(path: Path) -> bool:
 
 
 @pytest.fixture
-def window(qtbot, tmp_path: Path):  # noqa: ANN201
+def window(qtbot, tmp_path: Path):
     store = SessionStore(tmp_path / "store")
     source = SimulatedSource(seed=3)
     w = MainWindow(store, source, subject_code="GUI01")

@@ -34,7 +34,7 @@ def test_relaxation_watch_reads_only_the_steady_part_of_the_sweep() -> None:
     proto = KneeProtocol(start_deg=0.0, end_deg=60.0, speed_deg_s=5.0)
     watch = RelaxationWatch(proto)
     seen: list[np.ndarray] = []
-    watch.monitor.update = lambda t, a, q: seen.append(np.asarray(a)) or []  # type: ignore[method-assign]
+    watch.monitor.update = lambda t, a, q: seen.append(np.asarray(a)) or []  # type: ignore[method-assign]  # a spy in place of the monitor's update
     t = np.arange(0.0, 12.0, 0.01)
     pos = np.clip(5.0 * t, 0.0, 60.0)
     vel = np.where(pos < 60.0, 5.0, 0.0)

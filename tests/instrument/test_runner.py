@@ -19,7 +19,7 @@ from instrument.store import SessionStore, Subject
 
 
 @pytest.fixture
-def store(tmp_path: Path):  # noqa: ANN201
+def store(tmp_path: Path):
     s = SessionStore(tmp_path / "store")
     s.add_subject(Subject("R1", mass_kg=75.0))
     yield s
@@ -32,7 +32,7 @@ def test_limits_refuse_a_protocol_outside_them() -> None:
     assert limits.violations(KneeProtocol(end_deg=50.0, speed_deg_s=20.0))  # too fast
     assert not limits.violations(KneeProtocol(end_deg=50.0))
     with pytest.raises(ProtocolError, match="range of motion"):
-        TrialRunner(None, 0, KneeProtocol(end_deg=90.0), {"dynamometer": None}, limits=limits)  # type: ignore[arg-type]
+        TrialRunner(None, 0, KneeProtocol(end_deg=90.0), {"dynamometer": None}, limits=limits)  # type: ignore[arg-type]  # the limits are checked before any device is used
 
 
 def test_checklists_name_the_set_up_of_each_protocol() -> None:
@@ -65,7 +65,7 @@ def test_burst_is_flagged_at_its_angle_and_rejection_keeps_the_data(store: Sessi
     assert reason is not None and "activation" in reason
     import re
 
-    into = float(re.search(r"\(([0-9.]+) s into the trial", reason).group(1))  # type: ignore[union-attr]
+    into = float(re.search(r"\(([0-9.]+) s into the trial", reason).group(1))  # type: ignore[union-attr]  # the reason was asserted to contain it
     assert 1.0 < into < 30.0, reason  # time in the trial, never the host's clock
     runner.reject(reason)
     rec = store.trial(snap.outcome.trial_id)
@@ -92,7 +92,7 @@ def test_relaxed_trial_is_not_flagged_and_can_be_accepted(store: SessionStore) -
 
 
 def test_verdict_before_the_end_is_refused_and_missing_urls_are_named(store: SessionStore) -> None:
-    runner = TrialRunner(store, store.new_session("R1"), KneeProtocol(), {"dynamometer": None})  # type: ignore[dict-item]
+    runner = TrialRunner(store, store.new_session("R1"), KneeProtocol(), {"dynamometer": None})  # type: ignore[dict-item]  # a missing device, on purpose
     with pytest.raises(ProtocolError, match="not finished"):
         runner.accept()
     with pytest.raises(ProtocolError, match="dynamometer"):

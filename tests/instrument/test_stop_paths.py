@@ -21,7 +21,7 @@ from instrument.store import SessionStore, Subject
 
 
 @pytest.fixture
-def store(tmp_path: Path):  # noqa: ANN201
+def store(tmp_path: Path):
     s = SessionStore(tmp_path / "store")
     s.add_subject(Subject("S01", mass_kg=75.0))
     yield s
@@ -38,11 +38,11 @@ def _final_velocity(path: Path) -> float:
     return float(np.rad2deg(d["velocity_rad_s"][-1]))
 
 
-def _run(store: SessionStore, stop_how, *, lose_estop_frames: int = 0, limits: SafetyLimits | None = None):  # noqa: ANN001, ANN202
+def _run(store: SessionStore, stop_how, *, lose_estop_frames: int = 0, limits: SafetyLimits | None = None):
     source = SimulatedSource(seed=11)
     proto = KneeProtocol(end_deg=60.0, speed_deg_s=20.0)
     with source.devices(proto) as devices:
-        sim = source.lab.dynamometer  # type: ignore[union-attr]
+        sim = source.lab.dynamometer  # type: ignore[union-attr]  # inside the source's trial the lab is set
         sim.lose_estop_frames = lose_estop_frames
         runner = TrialRunner(store, store.new_session("S01"), proto, devices, limits=limits)
         runner.start()
@@ -100,7 +100,7 @@ def test_a_limit_breach_stops_the_arm(store: SessionStore) -> None:
     # the sweep goes to 60°, the runner's envelope ends at 40° (+2° tolerance): the stream breaches it
     limits = SafetyLimits(rom_deg=(-5.0, 65.0))
 
-    def narrow(runner: TrialRunner, sim) -> None:  # noqa: ANN001
+    def narrow(runner: TrialRunner, sim) -> None:
         object.__setattr__(runner.limits, "rom_deg", (-5.0, 30.0))
 
     snap, state, _, _ = _run(store, narrow, limits=limits)
@@ -109,7 +109,7 @@ def test_a_limit_breach_stops_the_arm(store: SessionStore) -> None:
 
 
 def test_the_device_enforces_a_rom_narrowed_mid_move(store: SessionStore) -> None:
-    def narrow(runner: TrialRunner, sim) -> None:  # noqa: ANN001
+    def narrow(runner: TrialRunner, sim) -> None:
         sim.rom_deg = (sim.rom_deg[0], sim.position_deg + 2.0)
 
     snap, state, _, _ = _run(store, narrow)

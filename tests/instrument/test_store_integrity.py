@@ -101,7 +101,7 @@ def test_processes_creating_one_store_at_once_all_succeed(tmp_path: Path) -> Non
 
 
 @pytest.fixture
-def recorded(tmp_path: Path):  # noqa: ANN201
+def recorded(tmp_path: Path):
     store_dir = tmp_path / "store"
     store = SessionStore(store_dir)
     store.add_subject(Subject("S01", mass_kg=70.0, shank_length_m=0.42))
@@ -150,7 +150,7 @@ def test_a_read_only_opening_lists_a_store_it_cannot_write(recorded, monkeypatch
 
     real = store_module.SessionStore
 
-    def refuse_writes(root, *, read_only=False, **kw):  # noqa: ANN001, ANN202 - as on read-only media
+    def refuse_writes(root, *, read_only=False, **kw):
         if not read_only:
             raise store_module.StoreReadOnlyError(f"{root}: read-only file system")
         return real(root, read_only=True, **kw)
