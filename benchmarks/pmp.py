@@ -71,7 +71,7 @@ def _replica_fit() -> dict[str, Any]:
     res = estimate_replica(Holds(q, tau, np.full(q.size, 0.01), np.full(q.size, 40)), model, sensor_offset_nm=0.0)
     wall = time.perf_counter() - t0
     err = truth_error_pct(res, truth)
-    return {"replica_fit_s": wall, "replica_iterations": res.iterations, "replica_starts": res.starts,
+    return {"replica_fit_s": wall, "replica_iterations": res.nit, "replica_starts": res.starts,
             "replica_determined": len(res.determined),
             "replica_max_error_determined_pct": max((abs(err[n]) for n in res.determined), default=float("nan"))}
 
@@ -107,10 +107,10 @@ def run(quick: bool = False) -> dict[str, Any]:
     independent = _opensim_truth(quick)
     out = {"quick": quick, "intervals_per_trial": intervals, "trials_full_subject": len(knee + ankle),
            "parameters_full_subject": len(full.parameters), "full_subject_fit_s": full_s,
-           "full_subject_iterations": full.iterations, "full_subject_ipopt_s": full.solve_s,
+           "full_subject_iterations": full.nit, "full_subject_ipopt_s": full.solve_time_s,
            "full_subject_determined": len(idf_full["determined"]),
            "full_subject_max_error_determined_pct": _recovery(truth, full, idf_full),
-           "single_trial_fit_s": single_s, "single_trial_iterations": single.iterations,
+           "single_trial_fit_s": single_s, "single_trial_iterations": single.nit,
            "single_trial_determined": len(idf_single["determined"]),
            "single_trial_max_error_determined_pct": _recovery(truth, single, idf_single), **replica, **moco,
            **independent}

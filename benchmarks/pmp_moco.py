@@ -90,7 +90,7 @@ def solve_ours(data: dict[str, np.ndarray]) -> dict[str, Any]:
     t0 = time.perf_counter()
     res = estimate([tr], Pendulum(), intervals=INTERVALS, parameters=pset, moment=moment)
     wall = time.perf_counter() - t0
-    return {"slack_m": res.parameters["muscle.tendon_slack_length_m"], "wall_s": wall, "iterations": res.iterations}
+    return {"slack_m": res.parameters["muscle.tendon_slack_length_m"], "wall_s": wall, "iterations": res.nit}
 
 
 MOCO_SCRIPT = r"""

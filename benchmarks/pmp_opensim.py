@@ -80,8 +80,8 @@ def one_subject(seed: int, generic: dict[str, dict[str, float]], variant: str = 
     rows = determined_against_truth(res, idf, truth)
     undetermined_err = [abs(100 * (res.parameters[n] - truth[n.split(".")[0]][n.split(".")[1]])
                             / truth[n.split(".")[0]][n.split(".")[1]]) for n in idf["undetermined"]]
-    return {"seed": seed, "variant": variant, "success": res.success, "status": res.status,
-            "iterations": res.iterations, "fit_s": wall, "determined": rows,
+    return {"seed": seed, "variant": variant, "success": res.success, "status": res.solver_status,
+            "iterations": res.nit, "fit_s": wall, "determined": rows,
             "undetermined": len(idf["undetermined"]), "undetermined_median_error_pct":
             float(np.median(undetermined_err)) if undetermined_err else None,
             "residual_rms_nm": idf["residual_rms_nm"], "misfit_ratio": idf["misfit_ratio"],

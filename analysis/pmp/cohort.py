@@ -108,7 +108,7 @@ def run_fit_task(task: FitTask) -> dict[str, Any]:
     out: dict[str, Any] = {
         "key": task.key, "subject_code": task.subject_code, "replicate": task.replicate,
         "parameters": dict(res.parameters), "generic": dict(res.generic), "success": bool(res.success),
-        "status": res.status, "message": res.message, "iterations": int(res.iterations),
+        "status": res.solver_status, "message": res.message, "iterations": int(res.nit),
         "solve_time_s": float(res.solve_time_s), "inputs": task.inputs, "intervals": task.intervals,
         "method_version": METHOD_VERSION,
     }

@@ -33,6 +33,7 @@ import numpy as np
 
 from ..constants import GRAVITY_M_S2
 from ..errors import InputError
+from ..fit import FitStatus
 from .curves import passive_fiber_force, tendon_force
 from .geometry import MUSCLES
 from .muscles import COMPLIANT, LegMuscles
@@ -150,30 +151,32 @@ def free_parameters(leg: LegMuscles, trials: list[PmpTrial]) -> ParameterSet:
     return ParameterSet(names, np.array(gen), np.array(lo), np.array(hi))
 
 
-@dataclass
+@dataclass(frozen=True)
 class PmpResult:
-    """Estimates, the fit per trial, and the solver's account of itself (field names as SciPy's
-    ``OptimizeResult``: ``success``, ``status``, ``message``; a fit that did not converge is a
-    result with ``success=False`` and the last iterate, never an exception)."""
+    """Estimates, the fit per trial, and the solver's account of itself, in SciPy's ``OptimizeResult``
+    names (:mod:`analysis.fit`): ``success``, ``status`` (a :class:`~analysis.fit.FitStatus`),
+    ``message``, ``nit``, ``fun`` (the final cost) and ``x`` (the estimates in ``parameters``' order).
+    A fit that did not converge is a result with ``success=False`` and the last iterate, never an
+    exception. ``solver_status`` is IPOPT's own word for how it ended."""
 
     parameters: dict[str, float]
     generic: dict[str, float]
     lower: dict[str, float]
     upper: dict[str, float]
-    cost: float
-    iterations: int
+    fun: float
+    nit: int
     solve_time_s: float
-    status: str
+    success: bool
+    status: FitStatus
+    message: str
+    solver_status: str
     trials: list[dict[str, np.ndarray]] = field(default_factory=list)
-    identifiability: dict[str, Any] = field(default_factory=dict)
-    success: bool = True
-    message: str = ""
     extension_parameters: dict[str, float] = field(default_factory=dict)  # a model extension's estimates
 
     @property
-    def solve_s(self) -> float:
-        """Alias of :attr:`solve_time_s` (s)."""
-        return self.solve_time_s
+    def x(self) -> np.ndarray:
+        """The estimates (SI) in the order of :attr:`parameters`."""
+        return np.array(list(self.parameters.values()), dtype=float)
 
 
 #: order of the Taylor expansion of path length and moment arm about the measured angle inside the fit
@@ -435,7 +438,6 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
     solve_s = time.perf_counter() - t0
     est = np.asarray(sol.value(p_scaled)).ravel() * pset.generic
     stats = sol.stats()
-    status = str(stats.get("return_status", "unknown"))
     res_trials = []
     for t, tt, q, v, u, u_scale, qm, _vm, um in outputs:
         res_trials.append({"name": t.name, "time_s": tt, "angle_rad": sol.value(q), "velocity_rad_s": sol.value(v),
@@ -444,10 +446,12 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
     if n_ext:
         values = np.atleast_1d(np.asarray(sol.value(e_scaled)).ravel()) * np.asarray(extension.typical, dtype=float)
         ext_est = dict(zip(extension.parameters, values.tolist()))
-    return PmpResult(dict(zip(pset.names, est.tolist())), dict(zip(pset.names, pset.generic.tolist())),
-                     dict(zip(pset.names, pset.lower.tolist())), dict(zip(pset.names, pset.upper.tolist())),
-                     float(sol.value(cost)), int(stats.get("iter_count", -1)), solve_s, status, res_trials,
-                     success=success, message=message, extension_parameters=ext_est)
+    return PmpResult(parameters=dict(zip(pset.names, est.tolist())), generic=dict(zip(pset.names, pset.generic.tolist())),
+                     lower=dict(zip(pset.names, pset.lower.tolist())), upper=dict(zip(pset.names, pset.upper.tolist())),
+                     fun=float(sol.value(cost)), nit=int(stats.get("iter_count", -1)), solve_time_s=solve_s,
+                     success=success, status=FitStatus.CONVERGED if success else FitStatus.NOT_CONVERGED,
+                     message=message, solver_status=str(stats.get("return_status", "unknown")), trials=res_trials,
+                     extension_parameters=ext_est)
 
 
 def moment_function(leg: LegMuscles, trial: PmpTrial, parameters: dict[str, float]) -> Any:

@@ -38,7 +38,8 @@ from scipy import stats
 from scipy.integrate import solve_ivp
 
 from ..constants import GRAVITY_M_S2
-from ..errors import DataFileError, FitError, InputError
+from ..errors import DataFileError, InputError
+from ..fit import FitStatus
 
 G = GRAVITY_M_S2
 DEFAULT_MODEL = Path(__file__).with_name("data") / "replica_leg.toml"
@@ -175,9 +176,12 @@ def holds_from_samples(angle_deg: np.ndarray, torque_nm: np.ndarray, *, min_samp
     return Holds(k, t, s, n.astype(int))
 
 
-@dataclass
+@dataclass(frozen=True)
 class ReplicaResult:
-    """Estimates with uncertainty, the fit at each hold and the forward check."""
+    """Estimates with uncertainty, the fit at each hold and the forward check, with the solver's
+    account of itself in SciPy's names (:mod:`analysis.fit`: ``success``, ``status``, ``message``,
+    ``nit``, ``fun``, ``x``). When no start converges the result says so (``success=False``, the
+    drawing's values, nothing determined) instead of raising."""
 
     parameters: dict[str, float]
     nominal: dict[str, float]
@@ -190,9 +194,13 @@ class ReplicaResult:
     residual_rms_nm: float
     model_torque_nm: np.ndarray
     holds: Holds
-    iterations: int
+    nit: int
     starts: int
-    solve_s: float
+    solve_time_s: float
+    success: bool
+    status: FitStatus
+    message: str
+    fun: float
     alternatives: dict[str, list[float]] = field(default_factory=dict)  # span of the equally good minima
     equivalent_minima: int = 1
     sensor_offset_nm: float = 0.0      # the transducer's zero, estimated (or as given)
@@ -200,6 +208,11 @@ class ReplicaResult:
     curve_knee_rad: np.ndarray = field(default_factory=lambda: np.zeros(0))  # the fitted rig, finely sampled
     curve_torque_nm: np.ndarray = field(default_factory=lambda: np.zeros(0))
     verification: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def x(self) -> np.ndarray:
+        """The estimates (SI) in the order of :attr:`parameters`."""
+        return np.array(list(self.parameters.values()), dtype=float)
 
 
 def _torque_expr(model: ReplicaModel, q: Any, par: Any, width_m: Any) -> Any:
@@ -300,7 +313,6 @@ def estimate_replica(holds: Holds, model: ReplicaModel | None = None, *, starts:
     with its springs on, and a zero error would otherwise land in the rest lengths.
 
     :raises InputError: fewer holds than parameters.
-    :raises FitError: no start converges.
     """
     import time
 
@@ -356,8 +368,15 @@ def estimate_replica(holds: Holds, model: ReplicaModel | None = None, *, starts:
             if solver.stats().get("success"):
                 found.append(np.asarray(sol["x"]).ravel())
     solve_s = time.perf_counter() - t0
-    if not found:
-        raise FitError("IPOPT did not converge from any start")
+    if not found:  # the drawing's values, nothing determined: the result says why
+        names_nan = dict.fromkeys(names, float("nan"))
+        return ReplicaResult(dict(zip(names, nominal.tolist())), dict(zip(names, nominal.tolist())),
+                             dict(zip(names, (lo[:n_par] * nominal).tolist())), dict(zip(names, (hi[:n_par] * nominal).tolist())),
+                             names_nan, {}, [], list(names), float("nan"), np.full(holds.knee_rad.size, np.nan), holds,
+                             iters, len(inits), solve_s, success=False, status=FitStatus.NO_START_CONVERGED,
+                             message=f"IPOPT did not converge from any of {len(inits)} starts", fun=float("nan"),
+                             alternatives={n: [float("nan"), float("nan")] for n in names}, equivalent_minima=0,
+                             sensor_offset_nm=zero)
 
     def predict(xf: np.ndarray) -> np.ndarray:
         return np.array([float(torque_fn(qq, xf[:n_par], SOFTPLUS_WIDTH_M)) for qq in holds.knee_rad]) + xf[n_par]
@@ -404,17 +423,19 @@ def estimate_replica(holds: Holds, model: ReplicaModel | None = None, *, starts:
     ci = {n: [float(min(est[k] - tq * se[k], span_lo[k] * nominal[k])), float(max(est[k] + tq * se[k], span_hi[k] * nominal[k]))]
           for k, n in enumerate(names) if det[k]}
     alternatives = {n: [float(span_lo[k] * nominal[k]), float(span_hi[k] * nominal[k])] for k, n in enumerate(names)}
-    res = ReplicaResult(dict(zip(names, est.tolist())), dict(zip(names, nominal.tolist())),
-                        dict(zip(names, (lo * nominal).tolist())), dict(zip(names, (hi * nominal).tolist())),
-                        dict(zip(names, se.tolist())), ci, [n for n, d in zip(names, det) if d],
-                        [n for n, d in zip(names, det) if not d], float(np.sqrt(np.mean(r**2))), model_tau, holds,
-                        iters, len(inits), solve_s, alternatives=alternatives, equivalent_minima=len(rivals),
-                        sensor_offset_nm=offset, sensor_offset_se_nm=offset_se)
-    fitted = model.with_parameters(res.parameters)
-    res.curve_knee_rad = np.linspace(float(holds.knee_rad.min()), float(holds.knee_rad.max()), 200)
-    res.curve_torque_nm = fitted.torque_nm(res.curve_knee_rad) + offset
-    res.verification = forward_check(fitted, replace(holds, torque_nm=holds.torque_nm - offset))
-    return res
+    parameters = dict(zip(names, est.tolist()))
+    fitted = model.with_parameters(parameters)
+    curve_knee_rad = np.linspace(float(holds.knee_rad.min()), float(holds.knee_rad.max()), 200)
+    return ReplicaResult(parameters, dict(zip(names, nominal.tolist())),
+                         dict(zip(names, (lo * nominal).tolist())), dict(zip(names, (hi * nominal).tolist())),
+                         dict(zip(names, se.tolist())), ci, [n for n, d in zip(names, det) if d],
+                         [n for n, d in zip(names, det) if not d], float(np.sqrt(np.mean(r**2))), model_tau, holds,
+                         iters, len(inits), solve_s, success=True, status=FitStatus.CONVERGED,
+                         message=f"converged from {len(found)} of {len(inits)} starts", fun=float(np.min(scores)),
+                         alternatives=alternatives, equivalent_minima=len(rivals),
+                         sensor_offset_nm=offset, sensor_offset_se_nm=offset_se, curve_knee_rad=curve_knee_rad,
+                         curve_torque_nm=fitted.torque_nm(curve_knee_rad) + offset,
+                         verification=forward_check(fitted, replace(holds, torque_nm=holds.torque_nm - offset)))
 
 
 def forward_check(model: ReplicaModel, holds: Holds, *, hold_s: float = 2.0, damping_nm_s_per_rad: float = 0.1) -> dict[str, Any]:
@@ -449,8 +470,9 @@ def to_json(result: ReplicaResult, truth: dict[str, float] | None = None) -> dic
         "parameters": result.parameters, "nominal": result.nominal, "standard_error": result.standard_error,
         "ci95": result.ci95, "determined": result.determined, "undetermined": result.undetermined,
         "bounds": {n: [result.lower[n], result.upper[n]] for n in result.parameters},
-        "residual_rms_nm": result.residual_rms_nm, "iterations": result.iterations, "starts": result.starts,
-        "solve_s": result.solve_s, "sensor_offset_nm": result.sensor_offset_nm,
+        "residual_rms_nm": result.residual_rms_nm, "iterations": result.nit, "starts": result.starts,
+        "success": result.success, "status": int(result.status), "message": result.message,
+        "solve_s": result.solve_time_s, "sensor_offset_nm": result.sensor_offset_nm,
         "sensor_offset_se_nm": result.sensor_offset_se_nm, "equivalent_minima": result.equivalent_minima,
         "equally_good_range": result.alternatives, "verification": result.verification,
         "holds": {"knee_deg": np.degrees(result.holds.knee_rad).tolist(), "torque_nm": result.holds.torque_nm.tolist(),
@@ -463,6 +485,8 @@ def to_json(result: ReplicaResult, truth: dict[str, float] | None = None) -> dic
 
 def text(result: ReplicaResult, truth: dict[str, float] | None = None) -> str:
     """The spring table as the operator reads it (k in N/m, rest length in mm)."""
+    if not result.success:
+        return f"replica fit failed: {result.message}; the springs are not estimated (nothing determined)"
     err = truth_error_pct(result, truth) if truth else {}
     lines = ["95% CI, or for a spring the holds do not determine, '?' and the spread of the equally good fits",
              f"{'spring':8s} {'k (N/m)':>16s} {'95% CI':>17s} {'rest (mm)':>16s} {'95% CI':>15s}"

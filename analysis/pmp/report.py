@@ -114,7 +114,7 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
 
     res = estimate(trials, subject, leg=leg, intervals=intervals, progress=iteration if progress else None)
     if progress is not None:
-        progress(f"fit done: {res.iterations} iterations, {res.solve_time_s:.1f} s ({res.message}); "
+        progress(f"fit done: {res.nit} iterations, {res.solve_time_s:.1f} s ({res.message}); "
                  f"identifiability and forward dynamics ...")
     idf = identifiability(res, trials, subject, leg=leg)
     model = None
@@ -175,7 +175,7 @@ def text(report: dict[str, Any], *, timings: bool = True) -> str:
     res: PmpResult = report["result"]
     idf = report["identifiability"]
     took = f"{res.solve_time_s:.1f} s, " if timings else ""
-    head = (f"fit: {res.status}, {res.iterations} iterations, {took}cost {res.cost:.3f}" if res.success
+    head = (f"fit: {res.solver_status}, {res.nit} iterations, {took}cost {res.fun:.3f}" if res.success
             else f"fit DID NOT CONVERGE: {res.message}; the values below are the last iterate, not estimates")
     lines = [head, f"residual {idf['residual_rms_nm']:.3g} N·m RMS against measurement noise {idf['noise_nm']:.3g} "
                    f"N·m ({idf['misfit_ratio']:.1f}×; {idf['effective_samples']:.0f} effective of {idf['samples']} "
@@ -229,7 +229,7 @@ def text(report: dict[str, Any], *, timings: bool = True) -> str:
 def to_json(report: dict[str, Any]) -> dict[str, Any]:
     res: PmpResult = report["result"]
     return {"parameters": res.parameters, "generic": res.generic, "lower": res.lower, "upper": res.upper,
-            "cost": res.cost, "iterations": res.iterations, "solve_time_s": res.solve_time_s,
+            "cost": res.fun, "iterations": res.nit, "solve_time_s": res.solve_time_s,
             "success": res.success, "message": res.message,
             "identifiability": report["identifiability"], "stiffness": report["stiffness"],
             "slack_per_shank_length": report["slack_per_shank_length"],

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import replace
 
@@ -98,3 +99,37 @@ def test_bad_model_file_names_the_defect(tmp_path) -> None:
     f.write_text("not toml [")
     with pytest.raises(DataFileError):
         load_replica_model(f)
+
+
+def test_a_fit_that_converges_from_no_start_is_a_failed_result_not_an_exception(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The replica fit's shape is every fit's (analysis.fit): success, status, message, nit, x."""
+    import casadi as ca
+
+    from analysis.fit import FitStatus
+    from analysis.pmp import replica
+
+    real = ca.nlpsol
+
+    def never_converges(*args: object, **kwargs: object) -> object:
+        solver = real(*args, **kwargs)
+
+        class Stubborn:
+            def __call__(self, **kw: object) -> object:
+                return solver(**kw)
+
+            def stats(self) -> dict[str, object]:
+                return {**solver.stats(), "success": False}
+
+        return Stubborn()
+
+    monkeypatch.setattr(ca, "nlpsol", never_converges)
+    model = replica.load_replica_model()
+    leg = ReplicaLeg()
+    deg = np.arange(0.0, 90.0, 8.0)
+    holds = replica.holds_from_samples(np.repeat(deg, 20), np.repeat(leg.torque_nm(deg), 20))
+    res = replica.estimate_replica(holds, model, starts=2)
+    assert not res.success and res.status == FitStatus.NO_START_CONVERGED and "did not converge" in res.message
+    assert res.determined == [] and res.nit > 0 and res.x.shape == (len(res.parameters),)
+    assert replica.text(res).startswith("replica fit failed")
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        res.success = True  # type: ignore[misc]  # a result is frozen: this is the check
