@@ -6,6 +6,8 @@ import, so a missing vendor library breaks only its own back end::
     from drivers import open_force_plate, open_dynamometer, open_torque_sensor
 """
 
+from typing import Any
+
 from .base import DeviceStats, StreamingDevice
 from .blocks import DynamometerBlock, ForcePlateBlock, MarkerBlock, SampleBlock, TorqueBlock
 from .dynamometer import Dynamometer, DynamometerLimits, open_dynamometer
@@ -29,7 +31,7 @@ DEVICE_OPENERS = {"force_plate": open_force_plate, "dynamometer": open_dynamomet
                   "torque_sensor": open_torque_sensor, "mocap": open_marker_stream}
 
 
-def open_device(kind: str, url: str) -> StreamingDevice:
+def open_device(kind: str, url: str, **kwargs: Any) -> StreamingDevice:
     """The driver of a device of ``kind`` (``force_plate``, ``dynamometer``, ``torque_sensor``, ``mocap``) at ``url``.
 
     :raises DeviceNotAvailableError: no such kind of device, or no back end for the URL.
@@ -38,7 +40,7 @@ def open_device(kind: str, url: str) -> StreamingDevice:
         opener = DEVICE_OPENERS[kind]
     except KeyError:
         raise DeviceNotAvailableError(f"no device kind {kind!r}; one of {', '.join(DEVICE_OPENERS)}") from None
-    return opener(url)  # type: ignore[no-any-return]  # each opener returns its kind's StreamingDevice
+    return opener(url, **kwargs)  # type: ignore[no-any-return]  # each opener returns its kind's StreamingDevice
 
 __all__ = [
     "DEVICE_OPENERS", "open_device", "CommandRefusedError", "ConnectionLostError", "CounterResyncError",

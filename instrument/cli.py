@@ -61,7 +61,9 @@ def build_parser() -> argparse.ArgumentParser:
                       help="also record a simulated study of N subjects and run the cohort analysis on it")
 
     rec = sub.add_parser("record", help="record one trial into a session store")
-    rec.add_argument("--simulate", action="store_true", help="use the simulated lab (required without hardware config)")
+    rec.add_argument("--simulate", action="store_true", help="use the simulated lab")
+    rec.add_argument("--lab", type=Path, default=None, metavar="LAB.toml",
+                     help="the lab's devices by URL and the subject's envelope (see docs/hardware.md): record on them")
     rec.add_argument("--protocol", choices=kinds.names(aliases=True), required=True,
                      help="; ".join(f"{k.name}: {k.summary}" for k in kinds.KINDS))
     rec.add_argument("--store", type=Path, default=None, help="store folder (default: the user's data folder)")
@@ -71,6 +73,8 @@ def build_parser() -> argparse.ArgumentParser:
         rec.add_argument(p.option, dest=p.dest, default=None, **_option_of(p))
     rec.add_argument("--seed", type=int, default=0)
 
+    probe_cmd = sub.add_parser("devices", help="probe the lab file's devices: which answer, at what rate, with what limits")
+    probe_cmd.add_argument("--lab", type=Path, required=True, metavar="LAB.toml")
     ses = sub.add_parser("sessions", help="list subjects, sessions and trials of a store")
     ses.add_argument("--store", type=Path, default=None)
     ses.add_argument("--json", action="store_true")
@@ -88,6 +92,7 @@ def build_parser() -> argparse.ArgumentParser:
     gui.add_argument("--operator", default="operator-1")
     for dev in ("force_plate", "dynamometer", "torque_sensor", "mocap"):
         gui.add_argument(f"--{dev.replace('_', '-')}", dest=dev, default=None, metavar="URL", help=f"{dev} URL (hardware)")
+    gui.add_argument("--lab", type=Path, default=None, metavar="LAB.toml", help="the lab file's devices and envelope")
     gui.add_argument("--close-after", type=float, default=None, help=argparse.SUPPRESS)
     ana = sub.add_parser("analyze", help="analyse recorded trials")
     analyses = ana.add_subparsers(dest="analysis", required=True)
@@ -274,11 +279,12 @@ def cmd_gui(args: argparse.Namespace) -> int:
     from .gui.app import run
 
     urls = {d: getattr(args, d) for d in ("force_plate", "dynamometer", "torque_sensor", "mocap") if getattr(args, d)}
-    if not args.simulate and not urls:
-        print("instrument gui: give --simulate, or the device URLs (--dynamometer URL, ...)", file=sys.stderr)
+    if not args.simulate and not urls and args.lab is None:
+        print("instrument gui: give --simulate, --lab LAB.toml, or the device URLs (--dynamometer URL, ...)",
+              file=sys.stderr)
         return 2
     return run(simulate=args.simulate, store_dir=args.store, urls=urls, subject=args.subject, operator=args.operator,
-               seconds=args.close_after)
+               seconds=args.close_after, lab_file=args.lab)
 
 
 def cmd_analyze(args: argparse.Namespace) -> int:
@@ -324,12 +330,15 @@ def _store(path: Path | None, read_only: bool = False, reading: bool = False) ->
 def cmd_record(args: argparse.Namespace) -> int:
     from .live.session import record_trial
     from .sim.simulate import lab_config_for, simulated_devices, simulation_metadata
-    if not args.simulate:
-        print("only --simulate is available from the command line; the GUI drives real devices", file=sys.stderr)
+    if args.simulate == (args.lab is not None):
+        print("instrument record: give --simulate (the simulated lab) or --lab LAB.toml (the lab's devices)",
+              file=sys.stderr)
         return 2
     kind = kinds.get(args.protocol)
     proto = kind.protocol(**{p.name: getattr(args, p.dest) for p in kind.parameters
                              if getattr(args, p.dest) is not None})
+    if args.lab is not None:
+        return _record_on_lab(args, proto)
     with _store(args.store) as store:
         try:
             store.subject(args.subject)
@@ -343,6 +352,65 @@ def cmd_record(args: argparse.Namespace) -> int:
     counts = ", ".join(f"{n}: {r.samples} samples, {r.counts()['lost_samples']} lost" for n, r in out.devices.items())
     print(f"trial {out.trial_id} {out.status}{' (' + out.reason + ')' if out.reason else ''}: {counts}\n  {out.path}")
     return 0 if out.status == "recorded" else 1
+
+
+def _record_on_lab(args: argparse.Namespace, proto: kinds.TrialProtocol) -> int:
+    """One trial on the lab file's devices, with the live checks the operator window runs: refused
+    unless every device the trial needs answers and the dynamometer reports the lab's envelope."""
+    from .live.lab import probe
+    from .live.runner import TrialRunner
+    from .live.sources import HardwareSource
+
+    source = HardwareSource.from_lab_file(args.lab)
+    assert source.lab is not None
+    probes = probe(source.lab, list(proto.devices))
+    for p in probes:
+        print(p.line())
+    silent = [p for p in probes if not p.answered]
+    if silent:
+        print("error: not recording: " + "; ".join(f"{p.kind} {p.problem}" for p in silent), file=sys.stderr)
+        return 1
+    with _store(args.store) as store:
+        try:
+            store.subject(args.subject)
+        except KeyError:
+            store.add_subject(Subject(args.subject))
+        session = store.new_session(args.subject, args.operator, notes=f"lab file {args.lab}")
+        print(f"recording {proto.name} {proto.condition_text()} on {args.lab} (about {proto.expected_duration_s():.0f} s; "
+              "Ctrl-C halts the arm and keeps the data) ...")
+        with source.devices(proto) as devices:
+            runner = TrialRunner(store, session, proto, devices, operator=args.operator, trial_number=args.trial or 1,
+                                 extra_metadata=source.metadata(), limits=source.lab.limits)
+            runner.start()
+            try:
+                while not runner.wait(1.0):
+                    snap = runner.snapshot()
+                    flags = f", {len(snap.alarms)} activation flag(s)" if snap.alarms else ""
+                    print(f"  {snap.elapsed_s:4.0f} s of about {proto.expected_duration_s():.0f} s{flags}", flush=True)
+            except KeyboardInterrupt:
+                runner.request_stop()  # the protocol's shutdown halts the arm; the data is kept
+                runner.wait(30.0)
+                print("stopped by the operator: the arm was halted, the data kept", file=sys.stderr)
+        snap = runner.snapshot()
+    if snap.outcome is None:
+        print(f"error: trial failed: {snap.error}", file=sys.stderr)
+        return 1
+    out = snap.outcome
+    why = runner.suggested_rejection()
+    print(f"trial {out.trial_id} {out.status}{' (' + out.reason + ')' if out.reason else ''}"
+          + (f"; suggest repeating it: {why}" if why else "") + f"\n  {out.path}")
+    return 0 if out.status == "recorded" and not why else 1
+
+
+def cmd_devices(args: argparse.Namespace) -> int:
+    """Probe every device of the lab file; exit 0 only when every one answers."""
+    from .live.lab import LabFile, probe
+
+    lab = LabFile.load(args.lab)
+    probes = probe(lab)
+    for p in probes:
+        print(p.line())
+    return 0 if all(p.answered for p in probes) else 1
 
 
 def cmd_sessions(args: argparse.Namespace) -> int:
@@ -402,7 +470,7 @@ def main(argv: list[str] | None = None) -> int:
             from .sim.demo import main as demo_main
 
             return demo_main(args.seconds, args.out, faults=not args.no_faults, cohort_subjects=args.cohort)
-        return {"record": cmd_record, "sessions": cmd_sessions, "export": cmd_export,
+        return {"record": cmd_record, "devices": cmd_devices, "sessions": cmd_sessions, "export": cmd_export,
                 "analyze": cmd_analyze, "diagnose": cmd_diagnose, "gui": cmd_gui}[args.command](args)
     except KeyboardInterrupt:
         print("error: interrupted", file=sys.stderr)

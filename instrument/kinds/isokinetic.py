@@ -90,18 +90,23 @@ class IsokineticProtocol(TrialProtocol):
         if not isinstance(dyno, Dynamometer):
             raise ProtocolError(f"{self.name} needs a dynamometer, got {type(dyno).__name__}")
         lo, hi = sorted((self.start_deg, self.end_deg))
+        # positioning at 30°/s, or the device's envelope if the lab set it slower
+        limits = getattr(dyno, "limits", None)
+        cap_deg_s = math.degrees(limits.max_speed_rad_s) if limits is not None else POSITIONING_SPEED_DEG_S
+        self._positioning_deg_s = min(POSITIONING_SPEED_DEG_S, cap_deg_s)
         dyno.open()
         dyno.reset()
         dyno.set_range_of_motion(math.radians(lo - 1.0), math.radians(hi + 1.0))
         dyno.set_torque_limit(self.max_torque_nm)
-        dyno.set_passive_isokinetic(math.radians(POSITIONING_SPEED_DEG_S))
+        dyno.set_passive_isokinetic(math.radians(self._positioning_deg_s))
 
     def drive(self, devices: dict[str, StreamingDevice], mark: Any, stop: threading.Event) -> None:
         dyno = devices["dynamometer"]
         assert isinstance(dyno, Dynamometer)
         travel = abs(self.end_deg - self.start_deg)
         dyno.move_to(math.radians(self.start_deg))  # positioning (recorded too; the state channel tells)
-        if wait_or_stop(stop, travel / POSITIONING_SPEED_DEG_S + 1.5 + self.settle_s):
+        positioning = getattr(self, "_positioning_deg_s", POSITIONING_SPEED_DEG_S)
+        if wait_or_stop(stop, travel / positioning + 1.5 + self.settle_s):
             return
         dyno.set_passive_isokinetic(math.radians(self.speed_deg_s))
         mark("sweep_start", start_deg=self.start_deg, end_deg=self.end_deg, speed_deg_s=self.speed_deg_s)

@@ -9,12 +9,14 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from contextlib import contextmanager
+from pathlib import Path
 from typing import Any
 
 from drivers import StreamingDevice, open_device
 
 from ..errors import ProtocolError
 from ..kinds.base import TrialProtocol
+from .lab import LabFile
 
 
 class HardwareSource:
@@ -22,8 +24,10 @@ class HardwareSource:
 
     simulated = False
 
-    def __init__(self, urls: dict[str, str]) -> None:
+    def __init__(self, urls: dict[str, str], lab: LabFile | None = None) -> None:
         self.urls = dict(urls)
+        #: the lab file the URLs came from: its envelope goes to the dynamometer driver
+        self.lab = lab
         #: a motion-capture stream configured: AADS trials get the live loop; else force-guided
         self.live_markers = "mocap" in self.urls
 
@@ -32,7 +36,8 @@ class HardwareSource:
         missing = [n for n in protocol.devices if n not in self.urls]
         if missing:
             raise ProtocolError(f"no URL configured for {', '.join(missing)} (needed by {protocol.name})")
-        devices = {n: open_device(n, self.urls[n]) for n in protocol.devices}
+        devices = {n: self.lab.open(n) if self.lab is not None else open_device(n, self.urls[n])
+                   for n in protocol.devices}
         try:
             yield devices
         finally:
@@ -40,7 +45,13 @@ class HardwareSource:
                 d.close()
 
     def metadata(self) -> dict[str, Any]:
-        return {"simulated": False}
+        return {"simulated": False, **({"lab_file": str(self.lab.path)} if self.lab is not None else {})}
+
+    @classmethod
+    def from_lab_file(cls, path: str | Path) -> HardwareSource:
+        """The devices of a lab file (:class:`instrument.live.lab.LabFile`), with its envelope."""
+        lab = LabFile.load(path)
+        return cls(lab.devices, lab)
 
 
 __all__ = ["HardwareSource"]
