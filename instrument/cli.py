@@ -357,6 +357,7 @@ def cmd_record(args: argparse.Namespace) -> int:
 def _record_on_lab(args: argparse.Namespace, proto: kinds.TrialProtocol) -> int:
     """One trial on the lab file's devices, with the live checks the operator window runs: refused
     unless every device the trial needs answers and the dynamometer reports the lab's envelope."""
+    from .live.acquisition import Sink
     from .live.lab import probe
     from .live.runner import TrialRunner
     from .live.sources import HardwareSource
@@ -379,8 +380,13 @@ def _record_on_lab(args: argparse.Namespace, proto: kinds.TrialProtocol) -> int:
         print(f"recording {proto.name} {proto.condition_text()} on {args.lab} (about {proto.expected_duration_s():.0f} s; "
               "Ctrl-C halts the arm and keeps the data) ...")
         with source.devices(proto) as devices:
+            sinks: list[Sink] = []
+            if source.lab.lsl_publish:  # LabRecorder records the instrument beside EMG and EEG
+                from .live.lsl import LslPublisher
+
+                sinks.append(LslPublisher(devices, session=f"{store.root.name}-{session}", subject_code=args.subject))
             runner = TrialRunner(store, session, proto, devices, operator=args.operator, trial_number=args.trial or 1,
-                                 extra_metadata=source.metadata(), limits=source.lab.limits)
+                                 extra_metadata=source.metadata(), limits=source.lab.limits, sinks=sinks)
             runner.start()
             try:
                 while not runner.wait(1.0):

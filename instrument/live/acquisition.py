@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import logging
 import threading
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -21,6 +22,9 @@ from drivers import DeviceStats, DeviceTimeoutError, DriverError, SampleBlock, S
 from .recording import DeviceSpec, TrialWriter
 
 log = logging.getLogger(__name__)
+
+#: a live consumer of every block: (device name, channels) → None
+Sink = Callable[[str, dict[str, np.ndarray]], None]
 
 
 class RingBuffer:
@@ -109,8 +113,11 @@ class AcquisitionEngine:
     """
 
     def __init__(self, devices: dict[str, StreamingDevice], *, ring_seconds: float = 30.0,
-                 nominal_rates_hz: dict[str, float] | None = None) -> None:
+                 nominal_rates_hz: dict[str, float] | None = None, sinks: list[Sink] | None = None) -> None:
         self.devices = devices
+        #: live consumers beyond the rings (a Lab Streaming Layer outlet, ...): a sink that fails is
+        #: dropped and logged; it never slows or stops the recording
+        self.sinks: list[Sink] = list(sinks or [])
         self.ring_seconds = ring_seconds
         self.nominal_rates_hz = {**NOMINAL_RATES_HZ, **(nominal_rates_hz or {})}
         self.rings: dict[str, RingBuffer] = {}
@@ -184,6 +191,12 @@ class AcquisitionEngine:
         channels = block.channels()
         self.reports[name].samples += len(block)
         self.rings[name].write(channels)
+        for sink in list(self.sinks):
+            try:
+                sink(name, channels)
+            except Exception as err:  # a live consumer's failure must never reach the recording
+                self.sinks.remove(sink)
+                log.error("live sink %r dropped: %s", sink, err)
         if self.writer is not None and self.recording_error is None:
             try:
                 self.writer.append(name, channels)

@@ -16,6 +16,9 @@ A lab file is TOML, read by the command line (``instrument devices --lab``, ``in
     [probe]
     seconds = 1.0                   # how long each device must stream to count as answering
 
+    [lsl]
+    publish = true                  # every device stream as a Lab Streaming Layer outlet (LabRecorder)
+
 Nothing in it names a subject. Units are in the keys; the envelope may only narrow the driver's
 own defaults.
 """
@@ -51,6 +54,8 @@ class LabFile:
     devices: dict[str, str]
     limits: SafetyLimits = field(default_factory=SafetyLimits)
     probe_seconds: float = PROBE_SECONDS
+    #: publish every device stream as a Lab Streaming Layer outlet (``[lsl] publish = true``)
+    lsl_publish: bool = False
 
     @classmethod
     def load(cls, path: str | Path) -> LabFile:
@@ -90,8 +95,11 @@ class LabFile:
                 and 0 < torque <= SUBJECT_MAX_TORQUE_NM and seconds > 0):
             raise LabFileError(f"{p}: [limits] may only narrow the subject's envelope (range {lo:g}..{hi:g}°, "
                                f"speed ≤ {SUBJECT_MAX_SPEED_DEG_S:g}°/s, torque ≤ {SUBJECT_MAX_TORQUE_NM:g} N·m)")
+        lsl = data.get("lsl", {})
+        if not isinstance(lsl, dict) or not isinstance(lsl.get("publish", False), bool):
+            raise LabFileError(f"{p}: [lsl] publish must be true or false")
         return cls(p, {str(k): str(v) for k, v in devices.items()},
-                   SafetyLimits((rom[0], rom[1]), speed, torque), seconds)
+                   SafetyLimits((rom[0], rom[1]), speed, torque), seconds, bool(lsl.get("publish", False)))
 
     def driver_limits(self) -> DynamometerLimits:
         """The envelope as the dynamometer driver enforces it (it refuses any command outside)."""

@@ -24,7 +24,7 @@ from drivers import Dynamometer, StreamingDevice
 from ..errors import ProtocolError
 from ..kinds.base import TrialProtocol
 from ..store import SessionStore
-from .acquisition import AcquisitionEngine
+from .acquisition import AcquisitionEngine, Sink
 from .monitors import AadsLoopWatch, SafetyLimits, monitors_for
 from .relaxation import ActivationAlarm, RelaxationMonitor
 from .session import TrialOutcome, record_trial
@@ -79,7 +79,8 @@ class TrialRunner:
     def __init__(self, store: SessionStore, session_id: int, protocol: TrialProtocol,
                  devices: dict[str, StreamingDevice], *, operator: str | None = None, trial_number: int | None = None,
                  extra_metadata: dict[str, Any] | None = None, limits: SafetyLimits | None = None,
-                 monitor: RelaxationMonitor | None = None, on_done: Callable[[TrialRunner], None] | None = None) -> None:
+                 monitor: RelaxationMonitor | None = None, on_done: Callable[[TrialRunner], None] | None = None,
+                 sinks: list[Sink] | None = None) -> None:
         self.store, self.session_id, self.protocol = store, session_id, protocol
         self.devices = {n: devices[n] for n in protocol.devices}
         self.limits = limits or SafetyLimits()
@@ -89,7 +90,7 @@ class TrialRunner:
         self.operator, self.trial_number, self.extra_metadata = operator, trial_number, extra_metadata
         if hasattr(protocol, "max_torque_nm"):  # the device's own ceiling: the stricter of the two
             protocol.max_torque_nm = min(protocol.max_torque_nm, self.limits.max_torque_nm)
-        self.engine = AcquisitionEngine(self.devices, ring_seconds=120.0)
+        self.engine = AcquisitionEngine(self.devices, ring_seconds=120.0, sinks=sinks)
         # the live monitors (instrument.live.monitors) find; this runner acts on what they find
         self.limit_monitor, self.relaxation_watch = monitors_for(protocol, self.limits, monitor)
         self.monitor = self.relaxation_watch.monitor if self.relaxation_watch is not None else None

@@ -101,3 +101,25 @@ def test_the_lab_envelope_reaches_the_driver(knee_lab, tmp_path: Path) -> None:
     with pytest.raises(LimitViolationError):
         dyno.set_passive_isokinetic(0.5)  # 28.6°/s > the lab's 25°/s
     dyno.close()
+
+
+def test_the_lab_file_can_publish_the_trial_as_lab_streaming_layer_outlets(knee_lab, tmp_path: Path) -> None:
+    """``[lsl] publish = true``: the recorded trial's dynamometer stream is an LSL outlet while it runs."""
+    pylsl = pytest.importorskip("pylsl")
+    import threading
+
+    lab, _ = knee_lab
+    path = write_lab(tmp_path / "lab.toml", {"dynamometer": lab.urls["dynamometer"]}, limits="[lsl]\npublish = true\n")
+    assert LabFile.load(path).lsl_publish
+    seen: list[str] = []
+
+    def listen() -> None:
+        seen.extend(i.source_id() for i in pylsl.resolve_byprop("name", "instrument-dynamometer", timeout=8.0))
+
+    listener = threading.Thread(target=listen)
+    listener.start()
+    code = main(["record", "--protocol", "knee", "--lab", str(path), "--end", "20", "--speed", "20",
+                 "--store", str(tmp_path / "store"), "--subject", "S01"])
+    listener.join()
+    assert code == 0
+    assert any(s.startswith("instrument:store-") and s.endswith(":dynamometer") for s in seen), seen
