@@ -35,8 +35,10 @@ from typing import Any
 
 import numpy as np
 
-from .estimator import PmpTrial, Subject, _autocorrelation_time, _smoothed, estimate, identifiability, moment_function
+from .identifiability import autocorrelation_time, identifiability, smoothed
+from .model import PmpTrial, Subject, moment_function
 from .muscles import LegMuscles, scale_for_subject
+from .problem import estimate
 
 #: bumped when a change to the fit or the resampling changes results (invalidates stored results)
 METHOD_VERSION = "cohort-3"
@@ -87,7 +89,7 @@ def condition_of(trial: PmpTrial) -> tuple[str, tuple[tuple[str, float], ...]]:
 def fitted_torque_nm(trial: PmpTrial, subject: Subject, parameters: dict[str, float], leg: LegMuscles) -> np.ndarray:
     """The quasi-static model's dynamometer torque at the trial's (smoothed) angles (N·m)."""
     f = moment_function(leg, trial, parameters).map(trial.angle_rad.size)
-    q = _smoothed(trial.angle_rad)
+    q = smoothed(trial.angle_rad)
     moment = np.asarray(f(q.reshape(1, -1))).ravel()
     return -(moment + subject.gravity_moment_nm(trial.joint, q, trial.fixed_rad))
 
@@ -161,7 +163,7 @@ def bootstrap_trials(trials: list[PmpTrial], fitted_torque: list[np.ndarray], re
         fit = np.asarray(fitted_torque[members[0]], dtype=float)
         residual = t.torque_nm - fit
         dt = float(np.median(np.diff(t.time_s))) if t.time_s.size > 1 else 1.0
-        block = max(int(round(2.0 * _autocorrelation_time(residual))), int(math.ceil(MIN_BLOCK_S / dt - 1e-9)))
+        block = max(int(round(2.0 * autocorrelation_time(residual))), int(math.ceil(MIN_BLOCK_S / dt - 1e-9)))
         torque = fit + _block_resample(residual, block, rng)
         out.append(PmpTrial(t.joint, dict(t.fixed_rad), t.time_s, t.angle_rad, t.velocity_rad_s, torque,
                             f"{t.name} (residual blocks of {block})"))

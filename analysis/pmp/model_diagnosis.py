@@ -38,8 +38,9 @@ import numpy as np
 from scipy.stats import t as student_t
 
 from ..trial_csv import NOMINAL_RANGE_DEG
-from .estimator import PmpResult, PmpTrial, Subject, _eliminate_tendons, _muscles_moment, estimate
+from .model import PmpTrial, Subject, eliminate_tendons, muscles_moment
 from .muscles import LegMuscles
+from .problem import PmpResult, estimate
 
 FRICTION_SPEED_RAD_S = math.radians(1.0)
 #: when the plain model's held-out error is this many times its in-sample error, the folds do not
@@ -267,8 +268,8 @@ def predict_torque_nm(result: PmpResult, trial: PmpTrial, subject: Subject, leg:
     q_s, v_s = ca.SX.sym("q"), ca.SX.sym("v")
     ext = [result.extension_parameters[n] for n in extension.parameters] if extension is not None else []
     q_joint = extension.joint_angle(trial, q_s, ext) if extension is not None else q_s
-    moment, residuals, lts = _muscles_moment(leg, trial, q_joint, result.parameters)
-    muscles = _eliminate_tendons(moment, residuals, lts, [q_s])
+    moment, residuals, lts = muscles_moment(leg, trial, q_joint, result.parameters)
+    muscles = eliminate_tendons(moment, residuals, lts, [q_s])
     if extension is not None and extension.angle is not None:
         muscles = muscles * ca.jacobian(q_joint, q_s)
     gravity = subject.gravity_moment_nm(trial.joint, q_s, trial.fixed_rad, ca.cos)

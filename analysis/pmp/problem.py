@@ -1,0 +1,283 @@
+"""The fit: build the collocation problem → solve it with IPOPT → a frozen :class:`PmpResult`.
+
+build problem → solve → result, after bioptim. For every trial the states are the moving joint's
+angle q and velocity v, the control is the dynamometer torque u, and the dynamics are
+
+    I q̈ = u + M_muscles(q; p) + M_gravity(q)
+
+(u is the torque the dynamometer applies toward positive angle once the arm's weight is
+removed: exactly a trial CSV's ``torque_Nm``, whose sign :mod:`analysis.trial_csv` defines).
+Hermite–Simpson collocation (states and controls at the nodes and interval midpoints) enforces
+the dynamics; the calf muscles' tendon lengths are algebraic variables held by the fibre–tendon
+equilibrium (eq 3.2) at every point. The cost is eq 3.8, Simpson-integrated over time:
+(q − q_m)²/σ_q² + (v − v_m)²/σ_v² + (u − u_m)²/σ_u² with σ_q = 0.5°, σ_v = 2 °/s, σ_u = 0.5 N·m
+(typical dynamometer noise), plus an explicit Gaussian prior about the (scaled) generic values
+(:data:`PRIOR_RELATIVE_SD`: slack lengths 5 %, strains 25 %, weighted :data:`PRIOR_WEIGHT`) so
+that directions the data do not determine stay near the generic model instead of wandering to
+absorb model error; the identifiability report says which those are.
+
+Parameters, shared by all trials given: tendon slack length of every muscle crossing a moving
+joint (bounds 0.6–1.25 × generic, :data:`SLACK_BOUNDS`; a tendon longer than its path is simply
+slack), passive fibre strain ε₀ of each of them (0.2–1.2) and tendon strain ε_T0 of the calf
+muscles (0.02–0.12). All decision variables are scaled to order one.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..errors import InputError
+from ..fit import FitStatus
+from .model import ParameterSet, PmpTrial, Subject, free_parameters, muscles_moment, path_taylor
+from .muscles import LegMuscles
+
+SIGMA_Q_RAD = np.deg2rad(0.5)
+SIGMA_V_RAD_S = np.deg2rad(2.0)
+SIGMA_U_NM = 0.5
+#: the prior of every parameter: Gaussian about its (scaled) generic value with these relative
+#: SDs — the spread between subjects the model assumes (slack lengths after scaling ±5 %, strains
+#: ±25 %) — and as much weight as PRIOR_WEIGHT of one trial's mean squared normalised error
+PRIOR_RELATIVE_SD = {"tendon_slack_length_m": 0.05, "passive_strain": 0.25, "tendon_strain": 0.25}
+PRIOR_WEIGHT = 0.01
+
+
+@dataclass(frozen=True)
+class PmpResult:
+    """Estimates, the fit per trial, and the solver's account of itself, in SciPy's ``OptimizeResult``
+    names (:mod:`analysis.fit`): ``success``, ``status`` (a :class:`~analysis.fit.FitStatus`),
+    ``message``, ``nit``, ``fun`` (the final cost) and ``x`` (the estimates in ``parameters``' order).
+    A fit that did not converge is a result with ``success=False`` and the last iterate, never an
+    exception. ``solver_status`` is IPOPT's own word for how it ended."""
+
+    parameters: dict[str, float]
+    generic: dict[str, float]
+    lower: dict[str, float]
+    upper: dict[str, float]
+    fun: float
+    nit: int
+    solve_time_s: float
+    success: bool
+    status: FitStatus
+    message: str
+    solver_status: str
+    trials: list[dict[str, np.ndarray]] = field(default_factory=list)
+    extension_parameters: dict[str, float] = field(default_factory=dict)  # a model extension's estimates
+
+    @property
+    def x(self) -> np.ndarray:
+        """The estimates (SI) in the order of :attr:`parameters`."""
+        return np.array(list(self.parameters.values()), dtype=float)
+
+
+@dataclass
+class PmpProblem:
+    """A built collocation problem: the CasADi ``Opti`` with its decision variables, cost and what the
+    result reads back (per trial: the times, the state and control variables, the measured signals)."""
+
+    opti: Any
+    parameters: ParameterSet
+    p_scaled: Any
+    e_scaled: Any
+    cost: Any
+    regularisation: Any
+    outputs: list[tuple[Any, ...]]
+    extension: Any
+    n_ext: int
+    intervals: int
+    max_iter: int
+
+
+def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None = None, intervals: int = 40,
+             max_iter: int = 300, initial: dict[str, float] | None = None, parameters: ParameterSet | None = None,
+             moment: Any = None, extension: Any = None,
+             progress: Callable[[int, float], None] | None = None,
+             held_out_s: list[list[tuple[float, float]]] | None = None) -> PmpResult:
+    """Fit the passive parameters shared by ``trials`` (all at once): :func:`build_problem`, then :func:`solve`.
+
+    ``progress(iteration, objective)`` is called after every IPOPT iteration (a progress line for
+    a fit that takes seconds).
+
+    ``parameters`` and ``moment(trial, q, par) → (moment, equilibrium residuals, tendon symbols)``
+    replace the eleven-muscle leg with another passive model (a test rig, or the single-muscle
+    problem the Moco benchmark shares with OpenSim); by default the leg's muscles.
+
+    ``extension`` (an :class:`analysis.pmp.model_diagnosis.Extension`) adds its terms to the
+    dynamics and its parameters to the decision variables, fitted with the muscles' (the model-level
+    diagnosis); its estimates are in ``PmpResult.extension_parameters``.
+
+    ``held_out_s`` (per trial, a list of (start, end) time windows, s) leaves the torque in those
+    windows out of the cost (the motion is still tracked): the model-level diagnosis's held-out blocks.
+
+    :raises InputError: a trial is empty or moves another joint than knee/ankle.
+    """
+    problem = build_problem(trials, subject, leg=leg, intervals=intervals, max_iter=max_iter, initial=initial,
+                            parameters=parameters, moment=moment, extension=extension, held_out_s=held_out_s)
+    return solve(problem, progress)
+
+
+def build_problem(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None = None, intervals: int = 40,
+                  max_iter: int = 300, initial: dict[str, float] | None = None, parameters: ParameterSet | None = None,
+                  moment: Any = None, extension: Any = None,
+                  held_out_s: list[list[tuple[float, float]]] | None = None) -> PmpProblem:
+    """The collocation problem of :func:`estimate` (its arguments), built and not solved.
+
+    :raises InputError: a trial is empty or moves another joint than knee/ankle.
+    """
+    import casadi as ca
+
+    if not trials:
+        raise InputError("no trials to fit")
+    leg = leg or LegMuscles()
+    pset = parameters or free_parameters(leg, trials)
+    n_par = len(pset.names)
+    opti = ca.Opti()
+    p_scaled = opti.variable(n_par)  # parameter = generic · p_scaled
+    opti.subject_to(opti.bounded(pset.lower / pset.generic, p_scaled, pset.upper / pset.generic))
+    start = np.array([(initial or {}).get(n, g) for n, g in zip(pset.names, pset.generic)]) / pset.generic
+    opti.set_initial(p_scaled, start)
+    n_ext = len(extension.parameters) if extension is not None else 0
+    e_scaled = opti.variable(max(n_ext, 1))  # extension parameter = its typical size · e_scaled
+    if n_ext:
+        e_size = np.asarray(extension.typical, dtype=float)
+        opti.subject_to(opti.bounded(np.asarray(extension.lower) / e_size, e_scaled, np.asarray(extension.upper) / e_size))
+        e_start = np.asarray(extension.start if extension.start is not None else np.zeros(n_ext), dtype=float)
+        opti.set_initial(e_scaled, np.clip(e_start / e_size, np.asarray(extension.lower) / e_size,
+                                           np.asarray(extension.upper) / e_size))
+    else:
+        opti.subject_to(e_scaled == 0)
+    problem = PmpProblem(opti, pset, p_scaled, e_scaled, 0, 0, [], extension, n_ext, intervals, max_iter)
+    for i_trial, t in enumerate(trials):
+        _add_trial(problem, t, subject, leg, moment, held_out_s[i_trial] if held_out_s else [])
+    prior_sd = np.array([PRIOR_RELATIVE_SD[n.split(".")[1]] for n in pset.names]) if parameters is None \
+        else np.full(n_par, 0.1)
+    problem.regularisation = PRIOR_WEIGHT * ca.sumsqr((p_scaled - 1.0) / ca.DM(prior_sd))
+    if n_ext:  # a vanishing pull toward no extension: a parameter no trial touches stays at 0
+        problem.regularisation = problem.regularisation + 1e-6 * ca.sumsqr(e_scaled)
+    opti.minimize(problem.cost + problem.regularisation)
+    opti.solver("ipopt", {"print_time": False}, {"print_level": 0, "max_iter": max_iter, "tol": 1e-8,
+                                                  "sb": "yes"})
+    return problem
+
+
+def _add_trial(problem: PmpProblem, t: PmpTrial, subject: Subject, leg: LegMuscles, moment: Any,
+               held_out: list[tuple[float, float]]) -> None:
+    """One trial's states, controls, Hermite–Simpson dynamics and cost terms, added to ``problem``."""
+    import casadi as ca
+
+    if t.joint not in ("knee", "ankle"):
+        raise InputError(f"{t.name}: the moving joint must be knee or ankle, not {t.joint!r}")
+    if t.time_s.size < 10:
+        raise InputError(f"{t.name}: {t.time_s.size} samples")
+    opti, pset, extension, n_ext, intervals = problem.opti, problem.parameters, problem.extension, problem.n_ext, \
+        problem.intervals
+    n_par = len(pset.names)
+    p_scaled, e_scaled = problem.p_scaled, problem.e_scaled
+    own_leg = moment is None  # the leg's muscles (their paths are expanded about the measured angles)
+    passive = moment or (lambda trial, q, par, local=None: muscles_moment(leg, trial, q, par, local))
+    n_pts = 2 * intervals + 1
+    tt = np.linspace(t.time_s[0], t.time_s[-1], n_pts)
+    dt = (tt[-1] - tt[0]) / intervals
+    qm = np.interp(tt, t.time_s, t.angle_rad)
+    vm = np.interp(tt, t.time_s, t.velocity_rad_s)
+    um = np.interp(tt, t.time_s, t.torque_nm)
+    u_scale = max(float(np.max(np.abs(um))), 1.0)
+    q = opti.variable(n_pts)
+    v = opti.variable(n_pts)
+    u = opti.variable(n_pts)
+    opti.set_initial(q, qm)
+    opti.set_initial(v, vm)
+    opti.set_initial(u, um / u_scale)
+    inertia = subject.inertia_kgm2(t.joint)
+    # the point dynamics as one SX function, mapped over every collocation point (a small MX graph)
+    qs, vs, us, ps = ca.SX.sym("q"), ca.SX.sym("v"), ca.SX.sym("u"), ca.SX.sym("p", n_par)
+    es = ca.SX.sym("e", max(n_ext, 1))
+    par_s = {n: pset.generic[i] * ps[i] for i, n in enumerate(pset.names)}
+    ext_par = [float(extension.typical[i]) * es[i] for i in range(n_ext)]
+    q_joint = extension.joint_angle(t, qs, ext_par) if n_ext else qs
+    local_in: list[Any] = []
+    # the leg's paths as Taylor polynomials about the measured angle of each point, unless an
+    # extension turns the joint away from the arm's angle (by degrees: the expansion would be off)
+    if own_leg and not (n_ext and extension.angle is not None):
+        _, coef = path_taylor(leg, t, qm)
+        coef = np.vstack([qm.reshape(1, -1), coef])
+        geo = ca.SX.sym("geo", coef.shape[0])
+        muscles, residuals, calf = passive(t, q_joint, par_s, (geo[0], geo[1:]))
+        local_in = [geo]
+    else:
+        muscles, residuals, calf = passive(t, q_joint, par_s)
+    if n_ext and extension.angle is not None:  # the muscles' moment reaches the arm by virtual work
+        muscles = muscles * ca.jacobian(q_joint, qs)
+    gravity = subject.gravity_moment_nm(t.joint, qs, t.fixed_rad, ca.cos)
+    moment = gravity + muscles
+    if n_ext:
+        moment = moment + extension.moment(t, qs, vs, ext_par, gravity)
+    lts = ca.vertcat(*calf) if calf else ca.SX.sym("lt", 0)
+    lt: Any = opti.variable(len(calf), n_pts) if calf else None
+    if calf:
+        opti.set_initial(lt, 1.01)
+        opti.subject_to(opti.bounded(0.99, lt, 1.2))
+    point = ca.Function("point", [qs, vs, us, ps, es, lts, *local_in],
+                        [(us * u_scale + moment) / inertia, ca.vertcat(*residuals)])
+    acc_row, res_rows = point.map(n_pts)(q.T, v.T, u.T, ca.repmat(p_scaled, 1, n_pts), ca.repmat(e_scaled, 1, n_pts),
+                                          lt if calf else ca.DM.zeros(0, n_pts), *([coef] if local_in else []))
+    if calf:
+        opti.subject_to(ca.vec(res_rows) == 0)
+    acc = [acc_row[k] for k in range(n_pts)]
+    # Hermite–Simpson: points 0, 2, 4, … are nodes, odd points are interval midpoints
+    for i in range(intervals):
+        a, mid, b = 2 * i, 2 * i + 1, 2 * i + 2
+        opti.subject_to(q[mid] == 0.5 * (q[a] + q[b]) + dt / 8 * (v[a] - v[b]))
+        opti.subject_to(v[mid] == 0.5 * (v[a] + v[b]) + dt / 8 * (acc[a] - acc[b]))
+        opti.subject_to(q[b] - q[a] == dt / 6 * (v[a] + 4 * v[mid] + v[b]))
+        opti.subject_to(v[b] - v[a] == dt / 6 * (acc[a] + 4 * acc[mid] + acc[b]))
+    w = np.full(n_pts, 2.0)
+    w[1::2] = 4.0
+    w[0] = w[-1] = 1.0
+    w *= (dt / 2) / 3 / (tt[-1] - tt[0])  # Simpson weights, normalised to a mean
+    w_u = w.copy()
+    for start_s, end_s in held_out:
+        w_u[(tt >= start_s) & (tt <= end_s)] = 0.0
+    err = ((q - qm) / SIGMA_Q_RAD) ** 2 + ((v - vm) / SIGMA_V_RAD_S) ** 2
+    problem.cost = problem.cost + ca.dot(ca.DM(w), err) + ca.dot(ca.DM(w_u), ((u * u_scale - um) / SIGMA_U_NM) ** 2)
+    problem.outputs.append((t, tt, q, v, u, u_scale, qm, vm, um))
+
+
+def solve(problem: PmpProblem, progress: Callable[[int, float], None] | None = None) -> PmpResult:
+    """Solve a built problem with IPOPT; a fit that does not converge is a result with ``success=False``."""
+    import time
+
+    opti, pset, cost, reg = problem.opti, problem.parameters, problem.cost, problem.regularisation
+    p_scaled, e_scaled, extension, n_ext = problem.p_scaled, problem.e_scaled, problem.extension, problem.n_ext
+    intervals, max_iter, outputs = problem.intervals, problem.max_iter, problem.outputs
+    if progress is not None:
+        opti.callback(lambda i: progress(int(i), float(opti.debug.value(cost + reg))))
+    t0 = time.perf_counter()
+    try:
+        sol: Any = opti.solve()
+        success, message = True, "IPOPT converged"
+    except RuntimeError as err:  # the last iterate is still a result: success=False says so
+        sol = opti.debug
+        success, message = False, f"IPOPT did not converge ({str(err).splitlines()[-1][:160]}); tried " \
+                                  f"{intervals} intervals per trial, max_iter {max_iter}, from the generic values"
+    solve_s = time.perf_counter() - t0
+    est = np.asarray(sol.value(p_scaled)).ravel() * pset.generic
+    stats = sol.stats()
+    res_trials = []
+    for t, tt, q, v, u, u_scale, qm, _vm, um in outputs:
+        res_trials.append({"name": t.name, "time_s": tt, "angle_rad": sol.value(q), "velocity_rad_s": sol.value(v),
+                           "torque_nm": sol.value(u) * u_scale, "measured_angle_rad": qm, "measured_torque_nm": um})
+    ext_est = {}
+    if n_ext:
+        values = np.atleast_1d(np.asarray(sol.value(e_scaled)).ravel()) * np.asarray(extension.typical, dtype=float)
+        ext_est = dict(zip(extension.parameters, values.tolist()))
+    return PmpResult(parameters=dict(zip(pset.names, est.tolist())), generic=dict(zip(pset.names, pset.generic.tolist())),
+                     lower=dict(zip(pset.names, pset.lower.tolist())), upper=dict(zip(pset.names, pset.upper.tolist())),
+                     fun=float(sol.value(cost)), nit=int(stats.get("iter_count", -1)), solve_time_s=solve_s,
+                     success=success, status=FitStatus.CONVERGED if success else FitStatus.NOT_CONVERGED,
+                     message=message, solver_status=str(stats.get("return_status", "unknown")), trials=res_trials,
+                     extension_parameters=ext_est)
+
