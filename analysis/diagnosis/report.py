@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .engine import Diagnosis
+from .result import Diagnosis
 
 
 def write_diagnosis_plot(d: Diagnosis, path: str | Path) -> Path:
