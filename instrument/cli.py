@@ -15,7 +15,7 @@ from typing import Any
 from drivers.errors import DriverError, LimitViolationError
 
 from . import kinds
-from .errors import InstrumentError, ProtocolError
+from .errors import InstrumentError, ProtocolError, StoreError
 from .kinds.base import Parameter
 from .offline.loading import LoadedTrial, is_store_id, load_trials
 from .store import SessionStore, Subject, default_store_dir, file_sha256, open_store, remembered
@@ -318,8 +318,14 @@ def cmd_analyze_afo(args: argparse.Namespace) -> int:
 
 
 def _store(path: Path | None, read_only: bool = False, reading: bool = False) -> SessionStore:
-    """The store; ``reading`` commands fall back to read-only where the medium cannot be written."""
+    """The store, named on stderr; ``reading`` commands fall back to read-only where the medium cannot be
+    written, and never create one (a mistyped ``--store`` is an error, not an empty store).
+
+    :raises StoreError: a reading command's store does not exist.
+    """
     root = path or default_store_dir()
+    if (reading or read_only) and not (root / "store.sqlite").exists():
+        raise StoreError(f"{root}: no store here (store.sqlite missing); check --store, or record a trial first")
     store = open_store(root) if reading else SessionStore(root, read_only=read_only)
     for r in store.recovered:
         print(f"recovered interrupted trial file {r.path} ({r.samples} samples, {r.seconds * 1e3:.0f} ms)",
@@ -345,7 +351,9 @@ def cmd_record(args: argparse.Namespace) -> int:
         except KeyError:
             store.add_subject(Subject(args.subject, "unknown", 1.78, 75.0, shank_length_m=0.40, foot_length_m=0.26))
         session = store.new_session(args.subject, args.operator, notes="simulated")
-        print(f"recording {proto.name} {proto.condition()} (about {proto.expected_duration_s():.0f} s) ...")
+        print(f"store {store.root}, subject {args.subject}, session {session}")
+        print(f"recording {proto.name}, {proto.condition_text() or 'default settings'} "
+              f"(about {proto.expected_duration_s():.0f} s) ...")
         with simulated_devices(proto, lab_config_for(proto, seed=args.seed)) as (lab, devices):
             out = record_trial(store, session, proto, devices, operator=args.operator, trial_number=args.trial or 1,
                                extra_metadata=simulation_metadata(lab))
@@ -424,21 +432,35 @@ def cmd_sessions(args: argparse.Namespace) -> int:
         return _print_sessions(store, args.json)
 
 
+def _iso(epoch_s: float | None) -> str | None:
+    """A store time (epoch seconds) as ISO 8601 in UTC, as JSON readers expect."""
+    import datetime
+
+    return None if epoch_s is None else datetime.datetime.fromtimestamp(float(epoch_s), datetime.UTC).isoformat()
+
+
 def _print_sessions(store: SessionStore, as_json: bool) -> int:
     trials = store.trials()
+    if not as_json:
+        print(f"store {store.root}" + (" (read-only)" if store.read_only else ""))
     if as_json:
-        print(json.dumps({"subjects": [s.as_dict() for s in store.subjects()], "sessions": store.sessions(),
-                          "trials": [t.as_dict() for t in trials]}, indent=2))
+        print(json.dumps({"subjects": [s.as_dict() for s in store.subjects()],
+                          "sessions": [{**s, "started_at": _iso(s.get("started_at"))} for s in store.sessions()],
+                          "trials": [{**t.as_dict(), "started_at": _iso(t.started_at), "ended_at": _iso(t.ended_at)}
+                                     for t in trials]}, indent=2))
         return 0
     for s in store.subjects():
-        print(f"subject {s.code}  sex {s.sex}  height {s.height_m} m  mass {s.mass_kg} kg")
+        fields = [f"sex {s.sex}" if s.sex else "", f"height {s.height_m:g} m" if s.height_m else "",
+                  f"mass {s.mass_kg:g} kg" if s.mass_kg else "", f"shank {s.shank_length_m:g} m" if s.shank_length_m else ""]
+        print(f"subject {s.code}  " + "  ".join(f for f in fields if f) if any(fields) else f"subject {s.code}  "
+              "(no anthropometrics entered)")
     print(f"{'trial':>5} {'session':>7} {'subject':<8} {'protocol':<8} {'status':<12} {'samples':<40} condition")
     for t in trials:
         samples = " ".join(f"{n}={c['samples']}" + (f"(-{c['lost_samples']})" if c["lost_samples"] else "")
                            for n, c in t.devices.items())
-        cond = {k: v for k, v in t.condition.items() if k in ("spring", "operator", "trial", "hip_flexion_deg",
-                                                               "knee_flexion_deg", "speed_deg_s")}
-        print(f"{t.id:>5} {t.session_id:>7} {t.subject_code:<8} {t.protocol:<8} {t.status:<12} {samples:<40} {cond}"
+        cond = "  ".join(f"{k} {v:g}" if isinstance(v, float) else f"{k} {v}" for k, v in t.condition.items()
+                         if k in ("spring", "operator", "trial", "hip_flexion_deg", "knee_flexion_deg", "speed_deg_s"))
+        print(f"{t.id:>5} {t.session_id:>7} {t.subject_code:<8} {t.protocol:<11} {t.status:<12} {samples:<40} {cond}"
               + (f"  [{t.reason}]" if t.reason else ""))
     return 0
 
@@ -450,9 +472,11 @@ def cmd_export(args: argparse.Namespace) -> int:
 
 def _export(store: SessionStore, args: argparse.Namespace) -> int:
     from .live.recording import read_trial
-    from .offline.export import check_export_targets, export_trial
+    from .offline.export import ExportError, check_export_targets, export_trial
 
     rec = store.trial(args.trial_id)
+    if not Path(args.output).resolve().parent.is_dir():
+        raise ExportError(f"{args.output}: its folder {Path(args.output).resolve().parent} does not exist")
     check_export_targets(args.format, args.output, store_root=store.root,
                          inputs=[rec.path, store.root / "store.sqlite"])
     trial = read_trial(rec.path)
@@ -464,7 +488,7 @@ def _export(store: SessionStore, args: argparse.Namespace) -> int:
     for f in files:
         if not store.read_only:
             store.add_file(rec.id, f"export-{f.suffix.lstrip('.')}", f.resolve())
-        print(f"wrote {f}")
+        print(f"wrote {f} (trial {rec.id} of the store {store.root})")
     return 0
 
 

@@ -19,6 +19,7 @@ from analysis.aads.model import default_jig_model
 from analysis.trial_csv import SUBJECT_RANGES
 
 from .. import kinds
+from ..errors import ProtocolError
 from ..kinds.base import Curves, Parameter, TrialKind, TrialProtocol
 from ..live.acquisition import AcquisitionEngine, device_health_text
 from ..live.runner import Checklist, SafetyLimits, TrialRunner, checklist_for
@@ -107,9 +108,12 @@ class MainWindow(QtWidgets.QMainWindow):
         live = self.fields.get("live_markers")
         if isinstance(live, QtWidgets.QCheckBox):
             live.setChecked(bool(getattr(self.source, "live_markers", True)))
-        for name in ("arm_mass_kg", "arm_com_m"):  # the checklist names the arm's weight
-            if name in self.fields:
-                self.fields[name].valueChanged.connect(self._reset_checklist)  # type: ignore[attr-defined]  # a spin box
+        # the checklist names the settings (hip angle, spring, arm weight): any change rebuilds it, unticked
+        for w in self.fields.values():
+            for signal in ("currentIndexChanged", "valueChanged", "toggled", "textChanged"):
+                if hasattr(w, signal):
+                    getattr(w, signal).connect(self._reset_checklist)
+                    break
         self.action_rows: dict[str, list[QtWidgets.QWidget]] = {}
         for k in kinds.KINDS:
             for action in k.actions:
@@ -167,6 +171,10 @@ class MainWindow(QtWidgets.QMainWindow):
         self.estop_shortcut = QtGui.QShortcut(QtGui.QKeySequence(QtCore.Qt.Key.Key_Escape), self)
         self.estop_shortcut.setContext(QtCore.Qt.ShortcutContext.ApplicationShortcut)
         self.estop_shortcut.activated.connect(self.emergency_stop)
+        self.quit_shortcut = QtGui.QShortcut(QtGui.QKeySequence("Ctrl+Q"), self)
+        self.quit_shortcut.activated.connect(self.close)  # closing mid-trial stops the devices, keeps the data
+        self.start_shortcut = QtGui.QShortcut(QtGui.QKeySequence(QtCore.Qt.Key.Key_Space), self)
+        self.start_shortcut.activated.connect(self._start_if_ready)
 
         main = QtWidgets.QVBoxLayout()
         root.addLayout(main, 1)
@@ -292,8 +300,14 @@ class MainWindow(QtWidgets.QMainWindow):
         self.instructions.setText(kind.instructions())
         self._update_buttons()
 
-    def _reset_checklist(self) -> None:
-        self.checklist = Checklist(checklist_for(self.protocol()))
+    def _reset_checklist(self, *_: object) -> None:
+        """Rebuild the checklist from the form's current settings, every item unticked (and Start with it)."""
+        try:
+            protocol = self.protocol()
+        except ProtocolError as err:  # a setting the kind refuses: nothing can start until it is fixed
+            self.verdict.setText(f"Cannot use these settings: {err}")
+            protocol = None
+        self.checklist = Checklist(checklist_for(protocol) if protocol is not None else ["fix the settings above"])
         self.check_list.blockSignals(True)
         self.check_list.clear()
         for text in self.checklist.items:
@@ -302,6 +316,8 @@ class MainWindow(QtWidgets.QMainWindow):
             item.setCheckState(QtCore.Qt.CheckState.Unchecked)
             self.check_list.addItem(item)
         self.check_list.blockSignals(False)
+        if hasattr(self, "start_button"):
+            self._update_buttons()
 
     def _on_check(self, item: QtWidgets.QListWidgetItem) -> None:
         self.checklist.confirm(self.check_list.row(item), item.checkState() == QtCore.Qt.CheckState.Checked)
@@ -436,6 +452,11 @@ class MainWindow(QtWidgets.QMainWindow):
         if self.runner is not None:
             self.runner.request_stop()
 
+    def _start_if_ready(self) -> None:
+        """Space: start the trial when the Start button would (checklist complete, nothing running)."""
+        if self.start_button.isEnabled():
+            self.start_trial()
+
     def emergency_stop(self) -> None:
         """Stop the dynamometer at once (command thread), mark the trial and end it."""
         if self.runner is not None and self.runner.snapshot().phase == "running":
@@ -451,6 +472,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self.verdict.setText(f"Trial {outcome.trial_id if outcome is not None else '?'} accepted.")
         self._analyse_in_background(self.runner)
         self._next_trial_number()
+        self._reset_checklist()  # every trial starts from an unticked checklist
         self._update_buttons()
 
     def repeat_trial(self) -> None:
@@ -460,7 +482,8 @@ class MainWindow(QtWidgets.QMainWindow):
         if self.runner.snapshot().outcome is not None:
             self.runner.reject(reason)
         self._last_verdict = "rejected"
-        self.verdict.setText(f"Rejected ({reason}); data kept. Ready to repeat the same condition.")
+        self.verdict.setText(f"Rejected ({reason}); data kept. Confirm the checklist again to repeat the same condition.")
+        self._reset_checklist()
         self._update_buttons()
 
     def _next_trial_number(self) -> None:
@@ -546,6 +569,8 @@ class MainWindow(QtWidgets.QMainWindow):
         if runner is None:
             self._plot_monitor(rings)
             return
+        if runner.protocol.name != self.kind().name:
+            return  # the form shows another kind now: its axes are not this trial's, its plots stay cleared
         kinds.get(runner.protocol.name).view.draw(self._curves, rings, runner.snapshot())
 
     def _plot_monitor(self, rings: dict[str, Any]) -> None:

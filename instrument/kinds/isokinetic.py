@@ -24,7 +24,7 @@ from analysis.pmp.model_diagnosis import folds_of
 from analysis.pmp.report import analyse, subject_from, text, trial_from_table
 from analysis.trial_csv import TrialTable
 from drivers import DriverError, Dynamometer, StreamingDevice
-from drivers.dynamometer import DEFAULT_LIMITS
+from drivers.dynamometer import DEFAULT_LIMITS, SUBJECT_MAX_SPEED_DEG_S
 from drivers.simulation.demo_subject import passive_table
 from drivers.simulation.seated_leg import SeatedLeg
 
@@ -46,8 +46,8 @@ from .base import (
 MOVING_FRACTION_OF_SWEEP_SPEED = 0.01
 #: the model-level diagnosis's candidates in the operator's set analysis (as the demo runs them)
 MODEL_CANDIDATES = ("end_range_structures", "limb_mass_error", "torque_offset")
-#: the fastest sweep a trial may ask for: the driver's default envelope (deg/s)
-MAX_SPEED_DEG_S = math.degrees(DEFAULT_LIMITS.max_speed_rad_s)
+#: the fastest sweep a trial may ask for: the subject's envelope (deg/s, as written, not a radian round trip)
+MAX_SPEED_DEG_S = SUBJECT_MAX_SPEED_DEG_S
 
 
 @dataclass

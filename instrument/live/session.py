@@ -44,7 +44,6 @@ def settings_snapshot(protocol: TrialProtocol, extra: dict[str, Any] | None = No
     return {
         "software": {"name": "afo-gait-instrument", "version": __version__, "python": platform.python_version(),
                      "numpy": np.__version__, "h5py": h5py.__version__, "hdf5": h5py.version.hdf5_version},
-        "host": platform.node(),
         "protocol": {"name": protocol.name, "settings": proto, "condition": protocol.condition()},
         **(extra or {}),
     }

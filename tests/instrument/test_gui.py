@@ -82,7 +82,9 @@ def test_knee_trial_flags_a_burst_is_repeated_then_accepted(qtbot, window: MainW
     assert read_trial(rec.path).devices["dynamometer"].samples > 100  # a rejected trial keeps its data
     events = [e["kind"] for e in read_trial(rec.path).events]
     assert "activation" in events
-    # repeat the same condition, relaxed this time
+    # repeat the same condition, relaxed this time: the checklist is confirmed again first
+    assert not window.start_button.isEnabled()
+    window.confirm_checklist()
     qtbot.mouseClick(window.start_button, QtCore.Qt.MouseButton.LeftButton)
     run_to_end(qtbot, window)
     assert not window.runner.snapshot().alarms
@@ -213,3 +215,26 @@ def test_a_long_result_gets_its_own_tab_and_leaves_the_plots_alone(window: MainW
     window.tabs.setCurrentIndex(1)
     QtCore.QCoreApplication.processEvents()
     assert window.grab().save(str(tmp_path / "results-tab.png")) and non_blank(tmp_path / "results-tab.png")
+
+
+def test_the_checklist_follows_the_settings(window: MainWindow) -> None:
+    """A ticked item must describe the settings that will run: any change unticks and rewrites the list."""
+    window.protocol_box.setCurrentIndex(1)
+    window.confirm_checklist()
+    assert window.start_button.isEnabled()
+    window.set_field("hip_flexion_deg", 55.0)
+    items = [window.check_list.item(i).text() for i in range(window.check_list.count())]
+    assert not window.start_button.isEnabled() and any("hip at 55°" in t for t in items)
+    window.protocol_box.setCurrentIndex(0)
+    window.confirm_checklist()
+    window.set_field("spring", 3)
+    items = [window.check_list.item(i).text() for i in range(window.check_list.count())]
+    assert not window.start_button.isEnabled() and any("spring 3 fitted" in t for t in items)
+
+
+def test_keyboard_space_starts_only_when_ready_and_ctrl_q_closes(qtbot, window: MainWindow) -> None:
+    window.protocol_box.setCurrentIndex(3)  # replica
+    window.start_shortcut.activated.emit()
+    assert window.runner is None and window._trial_thread is None  # checklist not confirmed: nothing starts
+    window.quit_shortcut.activated.emit()
+    qtbot.waitUntil(lambda: not window.isVisible(), timeout=5000)
