@@ -334,8 +334,11 @@ class TrialRunner:
             return
         with self._lock:
             st = self._state
+            newly_past = loop.past_stop and not st.aads_past_stop
             st.aads_angle_deg, st.aads_torque_nm, st.aads_peak_deg = loop.angle_deg, loop.torque_nm, loop.peak_deg
             st.aads_covers_window, st.aads_past_stop = loop.covers_window, loop.past_stop
+        if newly_past:  # into the trial's record, not only on screen (the stop adds its own stiffness)
+            self._mark("past_stop", peak_deg=float(loop.peak_deg), stop_deg=float(self.aads_watch.stop_deg))
 
 
 #: telemetry periods the device has to show an e-stop before the frame is sent again

@@ -122,3 +122,25 @@ def test_aads_zeroes_the_plate_with_the_afo_lifted_and_runs_force_guided_without
     weight = (geo.foot_mass_kg + geo.shank_mass_kg) * 9.81
     # zeroed with nothing on the plate, it reads at least the AFO's weight (plus the operator's push)
     assert np.percentile(fz, 5) > 0.9 * weight
+
+
+def test_a_bend_past_the_stop_is_in_the_trials_record(store: SessionStore) -> None:
+    """The live AADS loop's 'past the stop' goes into the trial file as an event (not only on screen)."""
+    from instrument.kinds.aads import AadsProtocol
+
+    source = SimulatedSource(seed=3)
+    peaks, marked = [], []
+    for operator in (2,):  # the simulated operator who bends hardest (to 25° with this seed)
+        proto = AadsProtocol(spring=1, operator=operator, duration_s=12.0)
+        with source.devices(proto) as devices:
+            runner = TrialRunner(store, store.new_session("R1"), proto, devices)
+            runner.start()
+            assert runner.wait(60.0)
+        snap = runner.snapshot()
+        events = [e for e in read_trial(store.trial(snap.outcome.trial_id).path).events if e["kind"] == "past_stop"]
+        peaks.append(snap.aads_peak_deg)
+        marked.append(bool(events))
+        assert bool(events) == bool(snap.aads_past_stop)  # flagged live exactly when recorded
+        if events:
+            assert events[0]["peak_deg"] > events[0]["stop_deg"] == proto.stop_deg
+    assert all(marked), f"the simulated bend did not pass the stop (peaks {peaks})"
