@@ -129,6 +129,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self.shank_spin = QtWidgets.QDoubleSpinBox(minimum=0.0, maximum=0.8, value=0.0, decimals=3, suffix=" m")
         self.foot_spin = QtWidgets.QDoubleSpinBox(minimum=0.0, maximum=0.5, value=0.0, decimals=3, suffix=" m")
         for label, w in (("Mass", self.mass_spin), ("Shank length", self.shank_spin), ("Foot length", self.foot_spin)):
+            w.setSpecialValueText("required")  # 0 is "not entered", never a value
             subj.addRow(label, w)
             w.valueChanged.connect(self._update_buttons)
         self.subject_button = QtWidgets.QPushButton("Save subject")
@@ -140,6 +141,7 @@ class MainWindow(QtWidgets.QMainWindow):
 
         side.addWidget(QtWidgets.QLabel("<b>Before the trial</b>"))
         self.check_list = QtWidgets.QListWidget()
+        self.check_list.setWordWrap(True)  # an item's whole text, however narrow the window
         self.check_list.itemChanged.connect(self._on_check)
         side.addWidget(self.check_list, 1)
 
@@ -500,6 +502,8 @@ class MainWindow(QtWidgets.QMainWindow):
         protocol, store_root = runner.protocol, self.store.root
         subject = {"mass_kg": self.mass_spin.value(), "shank_length_m": self.shank_spin.value(),
                    "foot_length_m": self.foot_spin.value()}
+        self.result_text.setPlainText(f"analysing the accepted {protocol.name} trials of this session "
+                                      f"(trial {outcome.trial_id} is the newest) …")
 
         def work() -> None:
             try:

@@ -182,6 +182,7 @@ def test_subject_is_saved_validated_and_updated(window: MainWindow) -> None:
     window.protocol_box.setCurrentIndex(1)  # knee: needs anthropometrics
     window.confirm_checklist()
     window.set_subject(0.0, 0.42, 0.26)
+    assert window.mass_spin.text() == "required"  # not entered is shown as such, never as 0.00 kg
     assert not window.start_button.isEnabled()
     assert not window.save_subject() and "mass kg 0 outside 20..250" in window.subject_label.text()
     window.set_subject(75.0, 0.42, 0.26)
