@@ -65,3 +65,11 @@ def test_the_trial_file_keeps_no_host_name(one_knee_trial: Path) -> None:
 def test_the_fastest_sweep_the_envelope_allows_is_accepted_as_written() -> None:
     args = build_parser().parse_args(["record", "--simulate", "--protocol", "knee", "--speed", "30"])
     assert args.speed == 30.0  # the option is --speed
+
+
+def test_a_csv_without_its_sidecar_says_so(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    csv = tmp_path / "knee.csv"
+    csv.write_text("time_s,angle_deg,torque_Nm\n" + "".join(f"{i * 0.1:.1f},{i:.1f},{0.1 * i:.2f}\n" for i in range(50)))
+    assert main(["analyze", "pmp", str(csv), "--out", str(tmp_path / "out")]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "sidecar" in err[0] and "None" not in err[0]
