@@ -141,7 +141,6 @@ def read_trial_csv(path: str | Path) -> TrialTable:
         except (json.JSONDecodeError, UnicodeDecodeError) as err:
             raise DataFileError(sp, f"sidecar is not valid JSON: {err}") from err
         validate_sidecar(sidecar, sp)
-    sidecar.setdefault("source", Path(path).name)  # errors about the trial name its file
     return TrialTable({n: data[:, i] for i, n in enumerate(names)}, sidecar, missing_time)
 
 

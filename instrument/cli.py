@@ -240,7 +240,7 @@ def cmd_analyze_cohort(args: argparse.Namespace) -> int:
 
 
 def cmd_analyze_pmp(args: argparse.Namespace) -> int:
-    from analysis.errors import DataFileError
+    from analysis.errors import DataFileError, InputError
     from analysis.pmp.report import analyse, subject_from, text, to_json, trial_from_table, write_plots
 
     given_subject = None
@@ -250,10 +250,16 @@ def cmd_analyze_pmp(args: argparse.Namespace) -> int:
         except (OSError, ValueError) as err:
             raise DataFileError(args.subject, f"subject JSON cannot be read: {err}") from err
 
+    def fitted(t: LoadedTrial, table: Any) -> Any:
+        try:
+            return trial_from_table(table)
+        except InputError as err:  # a CSV without its sidecar has no source to name: the spec names it
+            raise InputError(str(err) if t.path.name in str(err) else f"{t.spec}: {err}") from err
+
     def compute(trials: list[LoadedTrial]) -> dict:
         tables = [t.table() for t in trials]
         subject_data = given_subject if given_subject is not None else tables[0].sidecar.get("subject") or {}
-        report = analyse([trial_from_table(t) for t in tables], subject_from(subject_data), args.intervals,
+        report = analyse([fitted(t, table) for t, table in zip(trials, tables)], subject_from(subject_data), args.intervals,
                          diagnose_model=args.diagnose_model)
         files = write_plots(report, args.out)
         return {"json": to_json(report), "text": text(report), "files": [str(f) for f in files]}

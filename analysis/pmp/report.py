@@ -34,12 +34,12 @@ def trial_from_table(table: TrialTable) -> PmpTrial:
     """
     side = table.sidecar
     kind = side.get("kind")
+    where = f"{side['source']}: " if side.get("source") else ""
     if kind is None:
-        raise InputError(f"{side.get('source', 'the trial')}: no kind in its sidecar (is the .json sidecar beside the "
-                         "CSV?); passive parameters come from knee or ankle trials")
+        raise InputError(f"{where}no kind in its sidecar (is the .json sidecar beside the CSV?); passive parameters "
+                         "come from knee or ankle trials")
     if kind not in ("knee", "ankle"):
-        raise InputError(f"{side.get('source', 'the trial')}: passive parameters come from knee or ankle trials, "
-                         f"not {kind} trials")
+        raise InputError(f"{where}passive parameters come from knee or ankle trials, not {kind} trials")
     status = side.get("trial_status")
     if status in ("rejected", "interrupted", "failed"):
         raise InputError(f"a {status} trial is not fitted (the operator or the recording ended it); "
