@@ -46,8 +46,6 @@ from .base import (
 MOVING_FRACTION_OF_SWEEP_SPEED = 0.01
 #: the model-level diagnosis's candidates in the operator's set analysis (as the demo runs them)
 MODEL_CANDIDATES = ("end_range_structures", "limb_mass_error", "torque_offset")
-#: the fastest sweep a trial may ask for: the subject's envelope (deg/s, as written, not a radian round trip)
-MAX_SPEED_DEG_S = SUBJECT_MAX_SPEED_DEG_S
 
 
 @dataclass
@@ -218,7 +216,7 @@ def _draw(curves: Curves, rings: dict[str, Any], snapshot: Any) -> None:
 
 
 #: what every isokinetic kind asks (the same parameter in each, so the form and the CLI share it)
-SPEED = Parameter("speed_deg_s", "Speed", 5.0, unit="°/s", low=0.5, high=MAX_SPEED_DEG_S, flag="--speed",
+SPEED = Parameter("speed_deg_s", "Speed", 5.0, unit="°/s", low=0.5, high=SUBJECT_MAX_SPEED_DEG_S, flag="--speed",
                   help="isokinetic speed (deg/s)")
 ARM_MASS = Parameter("arm_mass_kg", "Arm mass", 1.8, unit="kg", low=0.0, high=20.0, flag="--arm-mass",
                      help="the dynamometer arm's mass, for its gravity (kg)")

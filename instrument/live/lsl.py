@@ -74,6 +74,7 @@ class LslPublisher:
         self.devices, self.source, self.session, self.subject_code = devices, source, session, subject_code
         self.outlets: dict[str, Any] = {}
         self.labels: dict[str, list[tuple[str, str, str]]] = {}
+        self._sources: dict[str, list[str]] = {}
         self.pushed: dict[str, int] = dict.fromkeys(devices, 0)
         for name, dev in devices.items():
             if dev.connected:  # open already: its layout is known, the outlet goes up now
@@ -99,6 +100,7 @@ class LslPublisher:
             info.desc().append_child_value("subject", subject_code)
         self.outlets[name] = pylsl.StreamOutlet(info, chunk_size=0, max_buffered=60)
         self.labels[name] = labels
+        self._sources[name] = list(dict.fromkeys(s for _, _, s in labels))  # the channels, in the labels' order
         return self.outlets[name]
 
     def __call__(self, name: str, channels: dict[str, np.ndarray]) -> None:
@@ -108,8 +110,7 @@ class LslPublisher:
         n = len(channels["counter"])
         if n == 0:
             return
-        matrix = np.column_stack([np.asarray(channels[src], dtype=float).reshape(n, -1)
-                                  for src in dict.fromkeys(s for _, _, s in self.labels[name])])
+        matrix = np.column_stack([np.asarray(channels[src], dtype=float).reshape(n, -1) for src in self._sources[name]])
         outlet.push_chunk(matrix.tolist(), np.asarray(channels["time_s"], dtype=float).tolist())
         self.pushed[name] += n
 

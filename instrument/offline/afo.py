@@ -3,20 +3,13 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from pathlib import Path
 
 from analysis.aads.experiment import AadsExperiment, TrialInput, analyze_experiment
 from analysis.aads.model import JigModel
 
 from ..kinds.aads import afo_model_diagnosis, trial_input
-from ..live.recording import read_trial
 from ..store import SessionStore, TrialRecord
 from .loading import load_trials
-
-
-def trial_input_from_file(path: Path) -> TrialInput:
-    """An instrument trial file (.h5), with its spring, operator and trial from the recorded condition."""
-    return trial_input(read_trial(path))
 
 
 def resolve_trials(specs: Sequence[str | TrialRecord], store: SessionStore | None, *, spring: int | None = None,
@@ -35,4 +28,4 @@ def analyze_afo(inputs: Sequence[TrialInput], model: JigModel) -> AadsExperiment
     return analyze_experiment(inputs, model)
 
 
-__all__ = ["afo_model_diagnosis", "analyze_afo", "resolve_trials", "trial_input", "trial_input_from_file"]
+__all__ = ["afo_model_diagnosis", "analyze_afo", "resolve_trials", "trial_input"]

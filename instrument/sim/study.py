@@ -43,7 +43,8 @@ def draw_subject(index: int, seed: int = 0) -> tuple[Subject, dict[str, float]]:
     shank = float(rng.uniform(0.38, 0.45))
     foot = float(rng.uniform(0.23, 0.28))
     leg = LegMuscles(length_scale=scale_for_subject(shank))
-    probe = [PmpTrial(j, {}, np.arange(3.0), np.zeros(3), np.zeros(3), np.zeros(3)) for j in ("knee", "ankle")]
+    probe = [PmpTrial(p.joint, {}, np.arange(3.0), np.zeros(3), np.zeros(3), np.zeros(3))
+             for p in (KneeProtocol, AnkleProtocol)]  # the study's two sweeps
     truth: dict[str, float] = {}
     for name in free_parameters(leg, probe).names:
         m, what = name.split(".")

@@ -65,4 +65,7 @@ def test_an_inlet_receives_every_dynamometer_sample_with_its_device_time() -> No
     np.testing.assert_array_equal(data[:, 0], ring["counter"])
     np.testing.assert_allclose(data[:, names.index("torque_nm")], ring["torque_nm"])
     np.testing.assert_allclose(stamps, ring["time_s"], atol=1e-9)  # the device's host time is the LSL stamp
-    assert abs(pylsl.local_clock() - time.monotonic()) < 0.01  # one steady clock
+    before = time.monotonic()
+    lsl_now = pylsl.local_clock()
+    after = time.monotonic()
+    assert before - 1e-3 <= lsl_now <= after + 1e-3  # one steady clock (bracketed: a preemption only widens it)
