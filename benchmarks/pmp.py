@@ -25,7 +25,7 @@ from analysis.pmp.synthetic import simulated_subject
 
 def _recovery(truth: LegMuscles, res: Any, idf: dict[str, Any]) -> float:
     errs = [abs(res.parameters[n] / getattr(truth.params[n.split(".")[0]], n.split(".")[1]) - 1) * 100
-            for n in idf["determined"]]
+            for n in idf.determined]
     return float(max(errs)) if errs else float("nan")
 
 

@@ -18,6 +18,7 @@ import numpy as np
 
 from analysis.pmp.estimator import PmpTrial, Subject, estimate, identifiability
 from analysis.pmp.geometry import model_segment_lengths_m
+from analysis.pmp.identifiability import Identifiability
 from analysis.pmp.muscles import LegMuscles, MuscleParameters, scale_for_subject
 
 from .opensim_truth import draw_truth, generic_parameters, make_trials
@@ -61,13 +62,13 @@ def fit_subject(seed: int, generic: dict[str, dict[str, float]], variant: str = 
     return truth, made, res, idf, time.perf_counter() - t0
 
 
-def determined_against_truth(res: Any, idf: dict[str, Any], truth: dict[str, dict[str, float]]) -> list[dict[str, Any]]:
+def determined_against_truth(res: Any, idf: Identifiability, truth: dict[str, dict[str, float]]) -> list[dict[str, Any]]:
     """Each determined parameter against the truth: estimate, error (%), its 95 % interval and whether it holds it."""
     rows = []
-    for name in idf["determined"]:
+    for name in idf.determined:
         muscle, what = name.split(".")
         true = truth[muscle][what]
-        lo, hi = idf["ci95"][name]
+        lo, hi = idf.ci95[name]
         rows.append({"parameter": name, "truth": true, "estimate": res.parameters[name],
                      "error_pct": 100 * (res.parameters[name] - true) / true, "covered": bool(lo <= true <= hi),
                      "ci95": [lo, hi]})
@@ -79,13 +80,13 @@ def one_subject(seed: int, generic: dict[str, dict[str, float]], variant: str = 
     truth, made, res, idf, wall = fit_subject(seed, generic, variant, intervals)
     rows = determined_against_truth(res, idf, truth)
     undetermined_err = [abs(100 * (res.parameters[n] - truth[n.split(".")[0]][n.split(".")[1]])
-                            / truth[n.split(".")[0]][n.split(".")[1]]) for n in idf["undetermined"]]
+                            / truth[n.split(".")[0]][n.split(".")[1]]) for n in idf.undetermined]
     return {"seed": seed, "variant": variant, "success": res.success, "status": res.solver_status,
             "iterations": res.nit, "fit_s": wall, "determined": rows,
-            "undetermined": len(idf["undetermined"]), "undetermined_median_error_pct":
+            "undetermined": len(idf.undetermined), "undetermined_median_error_pct":
             float(np.median(undetermined_err)) if undetermined_err else None,
-            "residual_rms_nm": idf["residual_rms_nm"], "misfit_ratio": idf["misfit_ratio"],
-            "not_determined_because": idf["not_determined_because"],
+            "residual_rms_nm": idf.residual_rms_nm, "misfit_ratio": idf.misfit_ratio,
+            "not_determined_because": idf.not_determined_because,
             "forward_model_rmse_nm": forward_model_rmse(made, truth)}
 
 

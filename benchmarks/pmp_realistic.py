@@ -90,15 +90,15 @@ def one_subject(seed: int, variant: str, quick: bool = False) -> dict[str, Any]:
     report = analyse(trials, subject, intervals=16, diagnose_model=True, model_candidates=CANDIDATES,
                      model_intervals=12)
     seconds = time.perf_counter() - t0
-    res, idf, md = report["result"], report["identifiability"], report["model_diagnosis"]
+    res, idf, md = report.result, report.identifiability, report.model_diagnosis
     rows = determined_against_truth(res, idf, truth)
     expected = {EXPECTED[h] for h in hidden} - {None}
-    ext = report.get("extended") or {}
+    ext = report.extended
     return {"seed": seed, "variant": variant, "hidden": hidden, "details": details, "named": md.cause,
             "expected": sorted(expected), "named_right": (md.cause in expected) if expected else (md.cause == "none"),
             "conclusive": md.conclusive, "heldout_ratio": next((c.heldout_ratio for c in md.candidates if c.named), None),
-            "plain_misfit": ext.get("plain_misfit_ratio", idf["misfit_ratio"]), "misfit": idf["misfit_ratio"],
-            "plain_determined": len(ext.get("plain_determined", idf["determined"])),
+            "plain_misfit": ext.plain_misfit_ratio if ext else idf.misfit_ratio, "misfit": idf.misfit_ratio,
+            "plain_determined": len(ext.plain_determined if ext else idf.determined),
             "determined": rows, "seconds": seconds}
 
 
@@ -132,10 +132,10 @@ def riener_case() -> dict[str, Any]:
     t0 = time.perf_counter()
     report = analyse(trials, Subject(MASS_KG, 0.41, FOOT_M), intervals=16, diagnose_model=True,
                      model_candidates=CANDIDATES, model_intervals=12)
-    ext = report.get("extended") or {}
-    idf = report["identifiability"]
-    return {"named": report["model_diagnosis"].cause, "plain_misfit": ext.get("plain_misfit_ratio", idf["misfit_ratio"]),
-            "misfit": idf["misfit_ratio"], "determined": idf["determined"], "seconds": time.perf_counter() - t0}
+    ext = report.extended
+    idf = report.identifiability
+    return {"named": report.model_diagnosis.cause, "plain_misfit": ext.plain_misfit_ratio if ext else idf.misfit_ratio,
+            "misfit": idf.misfit_ratio, "determined": idf.determined, "seconds": time.perf_counter() - t0}
 
 
 def _guarded(seed: int, variant: str, quick: bool) -> dict[str, Any]:

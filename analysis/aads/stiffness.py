@@ -11,6 +11,7 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from ..errors import FitError
+from ..fit import FitStatus
 from .model import BRANCHES
 
 #: a branch fit needs this many frames and this fraction of the window's angle span
@@ -18,9 +19,14 @@ MIN_FRAMES = 10
 MIN_SPAN_FRACTION = 0.5
 
 
-@dataclass
+@dataclass(frozen=True)
 class LineFit:
-    """Torque = slope · angle + intercept over ``frames`` frames spanning ``span_deg``."""
+    """Torque = slope · angle + intercept over ``frames`` frames spanning ``span_deg``.
+
+    A closed-form least-squares line, with SciPy's result names beside its own: ``x`` is
+    (slope N·m/°, intercept N·m), ``success`` always (a line that cannot be fitted raises
+    :class:`~analysis.errors.FitError` with the reason instead), ``nit`` 0 (no iterations).
+    """
 
     slope_nm_per_deg: float
     intercept_nm: float
@@ -28,6 +34,27 @@ class LineFit:
     frames: int
     span_deg: float
     rms_residual_nm: float
+
+    @property
+    def x(self) -> np.ndarray:
+        """(slope N·m/°, intercept N·m), SciPy's name for the solution."""
+        return np.array([self.slope_nm_per_deg, self.intercept_nm])
+
+    @property
+    def success(self) -> bool:
+        return True
+
+    @property
+    def status(self) -> FitStatus:
+        return FitStatus.CONVERGED
+
+    @property
+    def message(self) -> str:
+        return f"least-squares line through {self.frames} frames"
+
+    @property
+    def nit(self) -> int:
+        return 0
 
     def as_dict(self) -> dict[str, float]:
         return asdict(self)
@@ -101,7 +128,7 @@ def hysteresis_area_j(angle_deg: np.ndarray, torque_nm: np.ndarray, masks: dict[
     return float(np.sum(means[0][both] - means[1][both]) * np.deg2rad(bin_deg)), float(both.sum() * bin_deg)
 
 
-@dataclass
+@dataclass(frozen=True)
 class StiffnessResult:
     """Stiffness of one trial from one torque–angle record."""
 

@@ -18,7 +18,7 @@ Bootstrap (:func:`bootstrap_trials`): replicate ``b ≥ 1`` of a subject resampl
 
 The 95 % interval of a parameter is the subject's estimate ± (t(0.975, B−1) · SD of its B
 bootstrap estimates + the bound on the bias the muscle model's own error can cause,
-``identifiability(...)["model_error_bound_rel"]``: resampling sees the noise, not the model's
+``identifiability(...).model_error_bound_rel``: resampling sees the noise, not the model's
 systematic error); the percentile interval of the bootstrap estimates is reported beside it. A parameter counts as
 *determined* when the subject's fit says so (:func:`analysis.pmp.estimator.identifiability`) and
 the bootstrap interval is within ±6.9 % (1.96 × 3.5 %).
@@ -116,7 +116,7 @@ def run_fit_task(task: FitTask) -> dict[str, Any]:
     }
     if task.replicate == 0:
         idf = identifiability(res, task.trials, task.subject, leg=leg)
-        out["identifiability"] = {k: idf[k] for k in ("determined", "undetermined", "ci95", "misfit_ratio",
+        out["identifiability"] = {k: getattr(idf, k) for k in ("determined", "undetermined", "ci95", "misfit_ratio",
                                                        "residual_rms_nm", "noise_nm", "not_determined_because",
                                                        "at_bound", "model_error_bound_rel")}
         fd = [forward_dynamics(t, task.subject, res.parameters, leg=leg) for t in task.trials]

@@ -3,7 +3,9 @@ model's error allowance and the measured inputs' uncertainties; the misfit test 
 
 from __future__ import annotations
 
+import dataclasses
 import math
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -24,9 +26,58 @@ MISFIT_LIMIT = 3.0
 MODEL_ERROR_RMS_NM = 0.25
 
 
+@dataclass(frozen=True)
+class Identifiability:
+    """Which parameters a fit's trials determine, and how well (the result of :func:`identifiability`).
+
+    Attributes
+    ----------
+    determined, undetermined : parameter names (``muscle.quantity``)
+    relative_se : each parameter's standard error relative to its value (noise, measurement and model error)
+    ci95 : each determined parameter's 95 % interval (its own unit: m, or dimensionless strain)
+    model_error_bound_rel : the bias the model-error allowance can cause, relative to the value
+    free_combinations : the directions the trials do not determine (eigenvalue and leading components)
+    rank, parameters : determined directions, and parameters in all
+    at_bound : parameters the fit left at a bound
+    residual_rms_nm, noise_nm, misfit_ratio : residual and measurement noise (N·m RMS) and their ratio
+    systematic_residual_nm : the part of the residual the noise does not explain (N·m RMS)
+    effective_samples, samples : independent samples (from the residual's autocorrelation) and samples
+    not_determined_because : why nothing is determined, if nothing is
+    uncertainty : how the intervals were made, in words
+    measurement_se_rel : each parameter's relative SE from the measured inputs (shank, set angles, mass)
+    measurement_nuisances : the measured inputs propagated
+    extension : the model extension fitted jointly, if any
+    """
+
+    determined: list[str]
+    undetermined: list[str]
+    relative_se: dict[str, float]
+    ci95: dict[str, list[float]]
+    model_error_bound_rel: dict[str, float]
+    free_combinations: list[dict[str, Any]]
+    rank: int
+    parameters: int
+    at_bound: list[str]
+    residual_rms_nm: float
+    noise_nm: float
+    misfit_ratio: float
+    systematic_residual_nm: float
+    effective_samples: float
+    samples: int
+    not_determined_because: list[str]
+    uncertainty: str
+    measurement_se_rel: dict[str, float]
+    measurement_nuisances: list[str]
+    extension: str | None
+
+    def as_dict(self) -> dict[str, Any]:
+        """The fields as a JSON-ready dict (the report's and the cohort store's form)."""
+        return dataclasses.asdict(self)
+
+
 def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None = None,
                     rel_se_limit: float = 0.035, stride: int = 1, misfit_limit: float = MISFIT_LIMIT,
-                    model_error_nm: float | None = None, extension: Any = None) -> dict[str, Any]:
+                    model_error_nm: float | None = None, extension: Any = None) -> Identifiability:
     """Which parameters the trials determine, with honest 95 % intervals.
 
     Uncertainty: the torque residuals e = u_model(q) − u_measured at every measured sample
@@ -205,26 +256,26 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     for i in np.flatnonzero(~keep):
         order = np.argsort(-np.abs(vecs[:, i]))[:4]
         combos.append({"eigenvalue": float(w[i]), "components": {names[k]: float(vecs[k, i]) for k in order}})
-    return {"determined": [n for n, d in zip(names, determined) if d],
-            "undetermined": [n for n, d in zip(names, determined) if not d],
-            "relative_se": dict(zip(names, se_total.tolist())),
-            "ci95": {n: [values[k] * (1 - half_width[k]), values[k] * (1 + half_width[k])]
+    return Identifiability(determined=[n for n, d in zip(names, determined) if d],
+            undetermined=[n for n, d in zip(names, determined) if not d],
+            relative_se=dict(zip(names, se_total.tolist())),
+            ci95={n: [values[k] * (1 - half_width[k]), values[k] * (1 + half_width[k])]
                      for k, n in enumerate(names) if determined[k]},
-            "model_error_bound_rel": dict(zip(names, bias.tolist())),
-            "free_combinations": combos, "rank": int(keep.sum()), "parameters": len(names), "at_bound": at_bound,
-            "residual_rms_nm": residual_rms, "noise_nm": noise, "misfit_ratio": misfit_ratio,
-            "systematic_residual_nm": systematic,
-            "effective_samples": n_eff, "samples": n_samples, "not_determined_because": reasons,
-            "uncertainty": "least-squares covariance with the residual's variance, inflated by n/n_eff "
+            model_error_bound_rel=dict(zip(names, bias.tolist())),
+            free_combinations=combos, rank=int(keep.sum()), parameters=len(names), at_bound=at_bound,
+            residual_rms_nm=residual_rms, noise_nm=noise, misfit_ratio=misfit_ratio,
+            systematic_residual_nm=systematic,
+            effective_samples=n_eff, samples=n_samples, not_determined_because=reasons,
+            uncertainty="least-squares covariance with the residual's variance, inflated by n/n_eff "
                            "(integrated autocorrelation time of the residual)"
                            + (f"; the {extension.name} parameters fitted jointly as nuisances (profiled out)"
                               if extension is not None else "")
                            + f"; the shank length (SD {1e3 * subject.shank_length_sd_m:.1f} mm), each set angle "
                              f"(SD {math.degrees(subject.set_angle_sd_rad):.1f}°) and the mass (SD {subject.mass_sd_kg:g} kg) "
                              "as measured inputs whose SDs are propagated to first order (delta method)",
-            "measurement_se_rel": dict(zip(names, np.sqrt(measurement_var).tolist())),
-            "measurement_nuisances": measured,
-            "extension": extension.name if extension is not None else None}
+            measurement_se_rel=dict(zip(names, np.sqrt(measurement_var).tolist())),
+            measurement_nuisances=measured,
+            extension=extension.name if extension is not None else None)
 
 
 def other_joint(trial: PmpTrial) -> str:

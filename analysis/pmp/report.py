@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -14,14 +15,80 @@ from ..errors import InputError
 from ..trial_csv import SUBJECT_RANGES, TrialTable
 from .estimator import MEASUREMENT_SD, PmpResult, PmpTrial, Subject, estimate, identifiability
 from .geometry import path_ranges_deg
+from .identifiability import Identifiability
 from .muscles import COMPLIANT, LegMuscles, scale_for_subject
 from .stiffness import FIGURE_QUANTITIES, achilles_stiffness_kn_per_m, representative_values
-from .verify import forward_dynamics
+from .verify import Verification, forward_dynamics
 
 #: how far (deg) a trial may leave the muscle paths' fitted range
 RANGE_MARGIN_DEG = 2.0
 #: the least sweep (deg) a trial must cover to fit passive moments
 MIN_SWEEP_DEG = 5.0
+
+
+@dataclass(frozen=True)
+class ExtendedModel:
+    """The model extended with what the model-level diagnosis named, refitted (beside the plain fit).
+
+    Attributes
+    ----------
+    extension, description : the extension's name and what it models
+    contribution_nm : per trial, (angle in degrees, the extension's moment in N·m toward positive angle)
+    parameters : the extension's fitted parameters (their own units)
+    plain_misfit_ratio, misfit_ratio : residual over noise, plain and extended
+    plain_residual_rms_nm, residual_rms_nm : residual RMS (N·m), plain and extended
+    plain_determined, determined : parameters determined, plain and extended
+    plain_result : the plain model's fit
+    """
+
+    extension: str
+    description: str
+    contribution_nm: list[tuple[list[float], list[float]]]
+    parameters: dict[str, float]
+    plain_misfit_ratio: float
+    misfit_ratio: float
+    plain_residual_rms_nm: float
+    residual_rms_nm: float
+    plain_determined: list[str]
+    determined: list[str]
+    plain_result: PmpResult
+
+    def as_dict(self) -> dict[str, Any]:
+        """JSON-ready (the plain result left out: its table is in the text)."""
+        return {"extension": self.extension, "description": self.description, "contribution_nm": self.contribution_nm,
+                "parameters": dict(self.parameters), "plain_misfit_ratio": self.plain_misfit_ratio,
+                "misfit_ratio": self.misfit_ratio, "plain_residual_rms_Nm": self.plain_residual_rms_nm,
+                "residual_rms_Nm": self.residual_rms_nm, "plain_determined": list(self.plain_determined),
+                "determined": list(self.determined)}
+
+
+@dataclass(frozen=True)
+class PmpReport:
+    """Everything :func:`analyse` found: the fit, what it determined, the physiological quantities of the
+    determined parameters, forward dynamics, and with the model-level diagnosis the extended model.
+
+    Attributes
+    ----------
+    result : the (final) fit; with an extension named, the extended model's
+    identifiability : what the trials determine, with 95 % intervals
+    stiffness : ``tendon_kN_per_m`` and ``muscle_N_per_m`` per determined muscle (and ``achilles_kN_per_m``)
+    slack_per_shank_length : determined slack lengths over the shank length (dimensionless)
+    forward_dynamics : per trial, the fitted model simulated from the measured torque
+    leg : the scaled muscle model
+    shank_length_m : the entered shank length (m)
+    model_diagnosis : the model-level diagnosis, when asked for
+    extended : the extended model, when the diagnosis named an extension
+    """
+
+    result: PmpResult
+    identifiability: Identifiability
+    stiffness: dict[str, Any]
+    slack_per_shank_length: dict[str, float]
+    forward_dynamics: list[Verification]
+    leg: LegMuscles
+    shank_length_m: float
+    model_diagnosis: Any = None
+    extended: ExtendedModel | None = None
 
 
 def trial_from_table(table: TrialTable) -> PmpTrial:
@@ -107,7 +174,7 @@ def subject_from(data: dict[str, Any]) -> Subject:
 
 def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagnose_model: bool = False,
             model_candidates: list[str] | None = None, model_intervals: int | None = None,
-            progress: Callable[[str], None] | None = None) -> dict[str, Any]:
+            progress: Callable[[str], None] | None = None) -> PmpReport:
     """Fit, identifiability, physiological stiffness of the determined parameters, and forward dynamics;
     with ``diagnose_model``, the model-level diagnosis too (:mod:`analysis.pmp.model_diagnosis`: every
     candidate extension fitted inside the estimator, judged by held-out prediction across trials)."""
@@ -122,7 +189,7 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
                  f"identifiability and forward dynamics ...")
     idf = identifiability(res, trials, subject, leg=leg)
     model = None
-    extended: dict[str, Any] | None = None
+    extended: ExtendedModel | None = None
     extension = None
     if diagnose_model:
         from .model_diagnosis import EXTENSIONS
@@ -152,16 +219,16 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
                                                           float(subject.gravity_moment_nm(t.joint, a, t.fixed_rad))))
                                    for a, w in zip(q, v)])
                 contribution.append((np.rad2deg(q).tolist(), moment.tolist()))
-            extended = {"extension": extension.name, "description": extension.description,
-                        "contribution_nm": contribution,
-                        "parameters": dict(res.extension_parameters),
-                        "plain_misfit_ratio": plain_idf["misfit_ratio"], "misfit_ratio": idf["misfit_ratio"],
-                        "plain_residual_rms_Nm": plain_idf["residual_rms_nm"], "residual_rms_Nm": idf["residual_rms_nm"],
-                        "plain_determined": list(plain_idf["determined"]), "determined": list(idf["determined"]),
-                        "plain_result": plain_res}
+            extended = ExtendedModel(extension=extension.name, description=extension.description,
+                                     contribution_nm=contribution, parameters=dict(res.extension_parameters),
+                                     plain_misfit_ratio=plain_idf.misfit_ratio, misfit_ratio=idf.misfit_ratio,
+                                     plain_residual_rms_nm=plain_idf.residual_rms_nm,
+                                     residual_rms_nm=idf.residual_rms_nm,
+                                     plain_determined=list(plain_idf.determined), determined=list(idf.determined),
+                                     plain_result=plain_res)
     # the physiological quantities of the determined parameters only (Figures 3.15–3.17's, eq 3.13/3.16)
     rep = representative_values(leg, res.parameters, subject.shank_length_m)
-    determined = set(idf["determined"])
+    determined = set(idf.determined)
     stiff: dict[str, Any] = {key: {m: v for m, v in rep[key].items() if f"{m}.{FIGURE_QUANTITIES[key]}" in determined}
                              for key in ("tendon_kN_per_m", "muscle_N_per_m")}
     if all(m in stiff["tendon_kN_per_m"] for m in COMPLIANT):
@@ -169,82 +236,81 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
     slack_norm = {m: v for m, v in rep["slack_per_shank"].items() if f"{m}.tendon_slack_length_m" in determined}
     fd = [forward_dynamics(t, subject, res.parameters, leg=leg, extension=extension,
                            extension_parameters=res.extension_parameters) for t in trials]
-    return {"result": res, "identifiability": idf, "stiffness": stiff, "slack_per_shank_length": slack_norm,
-            "forward_dynamics": fd, "leg": leg, "shank_length_m": subject.shank_length_m, "model_diagnosis": model,
-            "extended": extended}
+    return PmpReport(result=res, identifiability=idf, stiffness=stiff, slack_per_shank_length=slack_norm,
+                     forward_dynamics=fd, leg=leg, shank_length_m=subject.shank_length_m, model_diagnosis=model,
+                     extended=extended)
 
 
-def text(report: dict[str, Any], *, timings: bool = True) -> str:
+def text(report: PmpReport, *, timings: bool = True) -> str:
     """The fit's report as text; ``timings=False`` leaves out the solve time (the host's, not the data's)."""
-    res: PmpResult = report["result"]
-    idf = report["identifiability"]
+    res: PmpResult = report.result
+    idf = report.identifiability
     took = f"{res.solve_time_s:.1f} s, " if timings else ""
     head = (f"fit: {res.solver_status}, {res.nit} iterations, {took}cost {res.fun:.3f}" if res.success
             else f"fit DID NOT CONVERGE: {res.message}; the values below are the last iterate, not estimates")
-    lines = [head, f"residual {idf['residual_rms_nm']:.3g} N·m RMS against measurement noise {idf['noise_nm']:.3g} "
-                   f"N·m ({idf['misfit_ratio']:.1f}×; {idf['effective_samples']:.0f} effective of {idf['samples']} "
+    lines = [head, f"residual {idf.residual_rms_nm:.3g} N·m RMS against measurement noise {idf.noise_nm:.3g} "
+                   f"N·m ({idf.misfit_ratio:.1f}×; {idf.effective_samples:.0f} effective of {idf.samples} "
                    "samples)",
              f"{'parameter':<34}{'generic':>9}{'estimate':>10}   95 % interval / status"]
     for n, v in res.parameters.items():
-        if n in idf["determined"]:
-            lo, hi = idf["ci95"][n]
+        if n in idf.determined:
+            lo, hi = idf.ci95[n]
             status = f"[{lo:.4g}, {hi:.4g}]"
-        elif n in idf.get("at_bound", []):
+        elif n in idf.at_bound:
             status = "not determined: at its bound"
         else:
             status = "not determined by these trials (the fit's value, not a measurement)"
         lines.append(f"{n:<34}{res.generic[n]:>9.4g}{v:>10.4g}   {status}")
-    for why in idf.get("not_determined_because", []):
+    for why in idf.not_determined_because:
         lines.append(f"NOTHING DETERMINED: {why}")
-    for c in idf["free_combinations"][:4]:
+    for c in idf.free_combinations[:4]:
         comp = " ".join(f"{w:+.2f}·{k}" for k, w in c["components"].items())
         lines.append(f"  free combination: {comp}")
-    st = report["stiffness"]
+    st = report.stiffness
     for m, k in st["tendon_kN_per_m"].items():
         lines.append(f"tendon stiffness {m}: {k:.0f} kN/m")
     if "achilles_kN_per_m" in st:
         lines.append(f"Achilles (calf tendons in parallel): {st['achilles_kN_per_m']:.0f} kN/m")
     for m, k in st["muscle_N_per_m"].items():
         lines.append(f"muscle stiffness {m}: {k:.0f} N/m")
-    for v in report["forward_dynamics"]:
-        why = ("" if np.isfinite(v.angle_rmse_deg) else
+    for fd in report.forward_dynamics:
+        why = ("" if np.isfinite(fd.angle_rmse_deg) else
                " (the simulation left the range where the calf tendons have an equilibrium: the fitted "
                "parameters do not reproduce this trial's motion)")
-        lines.append(f"forward dynamics {v.name}: angle RMSE {v.angle_rmse_deg:.2f}°, torque RMSE "
-                     f"{v.torque_rmse_nm_per_kg:.4f} N·m/kg{why}")
-    if report.get("model_diagnosis") is not None:
-        lines.append(report["model_diagnosis"].text())
-    ext = report.get("extended")
+        lines.append(f"forward dynamics {fd.name}: angle RMSE {fd.angle_rmse_deg:.2f}°, torque RMSE "
+                     f"{fd.torque_rmse_nm_per_kg:.4f} N·m/kg{why}")
+    if report.model_diagnosis is not None:
+        lines.append(report.model_diagnosis.text())
+    ext = report.extended
     if ext:
-        lines.append(f"the model extended with {ext['extension']} ({ext['description']}): residual "
-                     f"{ext['plain_residual_rms_Nm']:.3g} → {ext['residual_rms_Nm']:.3g} N·m "
-                     f"({ext['plain_misfit_ratio']:.1f}× → {ext['misfit_ratio']:.1f}× the noise); determined "
-                     f"{len(ext['plain_determined'])} → {len(ext['determined'])} parameters (the table above is the "
+        lines.append(f"the model extended with {ext.extension} ({ext.description}): residual "
+                     f"{ext.plain_residual_rms_nm:.3g} → {ext.residual_rms_nm:.3g} N·m "
+                     f"({ext.plain_misfit_ratio:.1f}× → {ext.misfit_ratio:.1f}× the noise); determined "
+                     f"{len(ext.plain_determined)} → {len(ext.determined)} parameters (the table above is the "
                      "extended model's, its intervals with the extension's parameters fitted jointly)")
-        traded = sorted(set(ext["plain_determined"]) - set(ext["determined"]))
+        traded = sorted(set(ext.plain_determined) - set(ext.determined))
         if traded:
             from .model_diagnosis import PROTOCOL_TO_SEPARATE
 
             lines.append("  trade with the extension (determined by the plain model, not beside it): " + ", ".join(traded)
-                         + "; " + PROTOCOL_TO_SEPARATE.get(ext["extension"], "another protocol to separate them"))
+                         + "; " + PROTOCOL_TO_SEPARATE.get(ext.extension, "another protocol to separate them"))
     return "\n".join(lines)
 
 
-def to_json(report: dict[str, Any]) -> dict[str, Any]:
-    res: PmpResult = report["result"]
+def to_json(report: PmpReport) -> dict[str, Any]:
+    res: PmpResult = report.result
     return {"parameters": res.parameters, "generic": res.generic, "lower": res.lower, "upper": res.upper,
             "cost": res.fun, "iterations": res.nit, "solve_time_s": res.solve_time_s,
             "success": res.success, "message": res.message,
-            "identifiability": report["identifiability"], "stiffness": report["stiffness"],
-            "slack_per_shank_length": report["slack_per_shank_length"],
+            "identifiability": report.identifiability.as_dict(), "stiffness": report.stiffness,
+            "slack_per_shank_length": report.slack_per_shank_length,
             "forward_dynamics": [{"trial": v.name, "angle_rmse_deg": v.angle_rmse_deg,
-                                  "torque_rmse_Nm_per_kg": v.torque_rmse_nm_per_kg} for v in report["forward_dynamics"]],
-            "model_diagnosis": report["model_diagnosis"].as_dict() if report.get("model_diagnosis") else None,
-            "extended": ({k: v for k, v in report["extended"].items() if k != "plain_result"}
-                         if report.get("extended") else None)}
+                                  "torque_rmse_Nm_per_kg": v.torque_rmse_nm_per_kg} for v in report.forward_dynamics],
+            "model_diagnosis": report.model_diagnosis.as_dict() if report.model_diagnosis else None,
+            "extended": report.extended.as_dict() if report.extended else None}
 
 
-def _parameter_figure(report: dict[str, Any]) -> Any:
+def _parameter_figure(report: PmpReport) -> Any:
     """Figures 3.15–3.17 side by side: slack length per shank length, tendon stiffness (kN/m) and
     muscle stiffness (N/m). The generic model's value (orange outline) beside the fit: a determined
     parameter blue with its 95 % interval, an undetermined one a grey, hatched bar (the fit's value, not a
@@ -253,11 +319,10 @@ def _parameter_figure(report: dict[str, Any]) -> Any:
     from matplotlib.figure import Figure
     from matplotlib.patches import Patch
 
-    res: PmpResult = report["result"]
-    idf = report["identifiability"]
-    det = set(idf["determined"])
-    leg: LegMuscles = report.get("leg") or LegMuscles()
-    shank = float(report.get("shank_length_m") or 0.42)
+    res: PmpResult = report.result
+    idf = report.identifiability
+    det = set(idf.determined)
+    leg, shank = report.leg, float(report.shank_length_m)
     fig = Figure(figsize=(14, 4.4), layout="constrained")
     FigureCanvasAgg(fig)
     axes = fig.subplots(1, 3)
@@ -265,7 +330,7 @@ def _parameter_figure(report: dict[str, Any]) -> Any:
     generic = representative_values(leg, res.generic, shank)
     # each determined parameter's interval carried to its figure quantity (both ends evaluated)
     bounds: dict[str, dict[str, tuple[float, float]]] = {k: {} for k in FIGURE_QUANTITIES}
-    for name, (lo, hi) in idf.get("ci95", {}).items():
+    for name, (lo, hi) in idf.ci95.items():
         ends = [representative_values(leg, {**res.parameters, name: v}, shank) for v in (lo, hi)]
         muscle = name.split(".")[0]
         for key, what in FIGURE_QUANTITIES.items():
@@ -302,19 +367,19 @@ def _parameter_figure(report: dict[str, Any]) -> Any:
     return fig
 
 
-def write_plots(report: dict[str, Any], out_dir: str | Path) -> list[Path]:
+def write_plots(report: PmpReport, out_dir: str | Path) -> list[Path]:
     """Measured against simulated torque and angle per trial; parameters against the generic model."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    res: PmpResult = report["result"]
+    res: PmpResult = report.result
     n = len(res.trials)
     fig = Figure(figsize=(4.5 * n, 6.5), layout="constrained")
     FigureCanvasAgg(fig)
     axes = fig.subplots(2, n, squeeze=False)
-    for i, (tr, fd) in enumerate(zip(res.trials, report["forward_dynamics"])):
+    for i, (tr, fd) in enumerate(zip(res.trials, report.forward_dynamics)):
         a, b = axes[0, i], axes[1, i]
         a.plot(np.rad2deg(tr["measured_angle_rad"]), tr["measured_torque_nm"], ".", ms=2, color="0.5", label="measured")
         a.plot(np.rad2deg(tr["angle_rad"]), tr["torque_nm"], color="C0", label="collocation fit")
@@ -322,11 +387,10 @@ def write_plots(report: dict[str, Any], out_dir: str | Path) -> list[Path]:
         a.set_xlabel("angle (°)")
         a.set_ylabel("torque (N·m)")
         a.legend(fontsize=7)
-        share = (report.get("extended") or {}).get("contribution_nm")
-        if share:  # what the named extension adds to this trial's model torque (u = −M: its share of u)
-            angle_deg, moment = share[i]
+        if report.extended is not None:  # what the named extension adds to this trial's model torque (u = −M)
+            angle_deg, moment = report.extended.contribution_nm[i]
             a.plot(angle_deg, -np.asarray(moment), color="C3", lw=1, ls="--",
-                   label=f"{report['extended']['extension']} (its share)")
+                   label=f"{report.extended.extension} (its share)")
         b.plot(tr["time_s"], np.rad2deg(tr["measured_angle_rad"]), ".", ms=2, color="0.5", label="measured")
         b.plot(fd.time_s, np.rad2deg(fd.simulated_angle_rad), color="C1", label="forward dynamics")
         b.set_xlabel("time (s)")

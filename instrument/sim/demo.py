@@ -293,15 +293,15 @@ def passive_parameters(out: Path) -> tuple[dict[str, Any], bool]:
     except AnalysisError as err:
         print(f"  PROBLEM: {err}")
         return {"error": str(err)}, False
-    _measured(f"  passive fit solved in {report['result'].solve_time_s:.1f} s")
+    _measured(f"  passive fit solved in {report.result.solve_time_s:.1f} s")
     print("  " + text(report, timings=False).replace("\n", "\n  "))
     truth = demo_subject()["truth"]
-    idf, res = report["identifiability"], report["result"]
+    idf, res = report.identifiability, report.result
     checked = []
-    for name in idf["determined"]:
+    for name in idf.determined:
         muscle, what = name.split(".")
         true = float(truth[muscle][what])
-        lo, hi = idf["ci95"][name]
+        lo, hi = idf.ci95[name]
         checked.append({"parameter": name, "truth": true, "estimate": res.parameters[name], "held": lo <= true <= hi})
         print(f"  against the simulated subject's truth: {name} {res.parameters[name]:.4g} (truth {true:.4g}, "
               f"{100 * (res.parameters[name] / true - 1):+.2f} %), 95 % interval [{lo:.4g}, {hi:.4g}] "

@@ -24,15 +24,15 @@ def test_determined_parameters_are_recovered_within_3_5_percent(seed: int) -> No
     idf = identifiability(res, trials, subject)
     # the dissertation's problem: not all are (with the model's own ε₀ = 0.7 the knee muscles carry
     # less passive force than at DGF's default 0.6, so fewer are determined than before)
-    assert len(idf["determined"]) >= 1 and idf["undetermined"]
-    assert "recfem.tendon_slack_length_m" in idf["determined"]
-    assert not any(n.startswith("vas") for n in idf["determined"])  # three vasti on one moment: load-sharing free
-    for name in idf["determined"]:
+    assert len(idf.determined) >= 1 and idf.undetermined
+    assert "recfem.tendon_slack_length_m" in idf.determined
+    assert not any(n.startswith("vas") for n in idf.determined)  # three vasti on one moment: load-sharing free
+    for name in idf.determined:
         muscle, what = name.split(".")
         true = getattr(truth.params[muscle], what)
         assert abs(res.parameters[name] / true - 1) < 0.035, (name, res.parameters[name], true)
     # the free combinations are reported with their components, so nobody prints them as numbers
-    assert all(c["components"] for c in idf["free_combinations"])
+    assert all(c["components"] for c in idf.free_combinations)
 
 
 def test_bad_trials_are_refused() -> None:
@@ -95,12 +95,12 @@ def test_ankle_trials_give_slack_lengths_and_the_achilles_stiffness() -> None:
     truth, trials, subject = simulated_subject(3, ("ankle",))
     res = estimate(trials, subject, intervals=24)
     idf = identifiability(res, trials, subject)
-    assert "soleus.tendon_slack_length_m" in idf["determined"]
-    for name in idf["determined"]:
+    assert "soleus.tendon_slack_length_m" in idf.determined
+    for name in idf.determined:
         muscle, what = name.split(".")
         assert abs(res.parameters[name] / getattr(truth.params[muscle], what) - 1) < 0.035, name
     # the calf tendons' strains are not separable one by one (the dissertation's finding), their sum is
-    assert any(n.endswith("tendon_strain") for n in idf["undetermined"])
+    assert any(n.endswith("tendon_strain") for n in idf.undetermined)
 
     def achilles(params: dict[str, float] | None) -> float:
         k = {}
@@ -127,11 +127,11 @@ def test_a_published_model_as_measured_data_converges_within_bounds_and_shows_it
         u = -(riener_knee_flexion_moment_nm(hip, np.rad2deg(q), 0.0) + subject.gravity_moment_nm("knee", q, fixed))
         trials.append(PmpTrial("knee", fixed, t, q, np.full(t.size, np.deg2rad(5.0)), u, f"riener hip{hip:g}"))
     report = analyse(trials, subject, intervals=16)
-    res = report["result"]
+    res = report.result
     assert res.success and res.solver_status == "Solve_Succeeded"
     for name, value in res.parameters.items():  # the bounds are the physiological ranges
         assert res.lower[name] * (1 - 1e-6) <= value <= res.upper[name] * (1 + 1e-6), name
-    rmse = [v.torque_rmse_nm_per_kg for v in report["forward_dynamics"]]
+    rmse = [v.torque_rmse_nm_per_kg for v in report.forward_dynamics]
     # the generic muscle set cannot reproduce Riener's hip-90° curve: the residual is reported, not hidden
     assert all(np.isfinite(rmse)) and max(rmse) < 0.2 and max(rmse) > 0.01
-    assert report["identifiability"]["undetermined"]
+    assert report.identifiability.undetermined

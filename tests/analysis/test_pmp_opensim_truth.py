@@ -34,11 +34,11 @@ def _fit(seed: int, generic, variant: str):
 @pytest.mark.parametrize("seed", [1, 2])
 def test_determined_parameters_are_within_3_5_percent_and_inside_their_intervals(generic, seed: int) -> None:
     truth, _, res, idf = _fit(seed, generic, "base")
-    assert res.success and idf["determined"], idf["not_determined_because"]
-    for name in idf["determined"]:
+    assert res.success and idf.determined, idf.not_determined_because
+    for name in idf.determined:
         muscle, what = name.split(".")
         true = truth[muscle][what]
-        lo, hi = idf["ci95"][name]
+        lo, hi = idf.ci95[name]
         assert abs(res.parameters[name] / true - 1) < 0.035, (name, res.parameters[name], true)
         assert lo <= true <= hi, (name, lo, true, hi)
 
@@ -60,8 +60,8 @@ def test_the_forward_model_matches_opensim_at_the_true_parameters(generic) -> No
 @pytest.mark.timeout(600)
 def test_unmodelled_compliant_knee_tendons_and_activation_determine_nothing(generic) -> None:
     _, _, res, idf = _fit(0, generic, "realistic")
-    assert idf["determined"] == [] and not idf["ci95"]
-    assert any("does not fit" in r for r in idf["not_determined_because"])
+    assert idf.determined == [] and not idf.ci95
+    assert any("does not fit" in r for r in idf.not_determined_because)
 
 
 @pytest.mark.timeout(900)

@@ -18,6 +18,6 @@ def test_report_writes_the_fit_and_the_three_parameter_panels(tmp_path: Path) ->
     titles = [ax.get_title() for ax in fig.axes]
     assert titles == ["tendon slack length (Fig. 3.15)", "tendon stiffness (Fig. 3.16)", "muscle stiffness (Fig. 3.17)"]
     # every free parameter has a bar pair (generic, fitted) in its panel
-    n_slack = sum(n.endswith("tendon_slack_length_m") for n in report["result"].parameters)
+    n_slack = sum(n.endswith("tendon_slack_length_m") for n in report.result.parameters)
     assert len(fig.axes[0].patches) == 2 * n_slack
     assert "leg" not in to_json(report)
