@@ -1,7 +1,10 @@
 """Stop paths: how far the arm travels, and how long it takes to halt, after each way a trial ends.
 
-Each run is a knee sweep 0→60° at 20 °/s through the real CAN driver, the Qt-free trial runner
-and the simulated dynamometer; one second into the sweep the trial is ended by one path:
+Each run is a knee sweep 0→60° at 20 °/s through a real dynamometer driver, the Qt-free trial runner
+and the simulated dynamometer, on both wires: the CiA 402 servo drive over CANopen (``cia402``: the
+e-stop a quick-stop controlword, the watchdog the drive's heartbeat consumer, the device ROM its software
+position limits) and the project's CAN frame set (``frames``). One second into the sweep the trial is
+ended by one path:
 
 * ``operator_stop``: the operator's Stop (the protocol's shutdown halts the arm by command);
 * ``emergency_stop``: the e-stop frame;
@@ -27,6 +30,7 @@ from typing import Any
 
 import numpy as np
 
+from drivers.dynamometer.cia402 import HEARTBEAT_CONSUMER_S
 from drivers.dynamometer.protocol import WATCHDOG_TIMEOUT_S
 from instrument.kinds.knee import KneeProtocol
 from instrument.live.recording import read_trial
@@ -87,8 +91,8 @@ PATHS: dict[str, Callable[[TrialRunner, Any, Any], float]] = {
 }
 
 
-def one_run(store: SessionStore, path: str, seed: int) -> dict[str, float]:
-    source = SimulatedSource(seed=seed)
+def one_run(store: SessionStore, path: str, seed: int, wire: str = "cia402") -> dict[str, float]:
+    source = SimulatedSource(seed=seed, dynamometer_protocol=wire)
     proto = KneeProtocol(end_deg=END_DEG, speed_deg_s=SPEED_DEG_S)
     with source.devices(proto) as devices:
         sim = source.lab.dynamometer  # type: ignore[union-attr]  # inside the source's trial the lab is set
@@ -115,28 +119,41 @@ def one_run(store: SessionStore, path: str, seed: int) -> dict[str, float]:
             "unconfirmed_alarm": float(snap.estop_unconfirmed is not None)}
 
 
+WIRES = ("cia402", "frames")
+
+
 def run(quick: bool = False) -> dict[str, Any]:
     repeats = 1 if quick else 5
     out: dict[str, Any] = {"speed_deg_s": SPEED_DEG_S, "telemetry_period_ms": 1000 * TELEMETRY_PERIOD_S,
-                           "watchdog_timeout_ms": 1000 * WATCHDOG_TIMEOUT_S, "repeats": repeats, "paths": {}}
+                           "watchdog_timeout_ms": 1000 * WATCHDOG_TIMEOUT_S,
+                           "cia402_heartbeat_consumer_ms": 1000 * HEARTBEAT_CONSUMER_S, "repeats": repeats,
+                           "wires": {}}
+    commanded = [p for p in PATHS if p not in ("lost_host", "estop_never_arrives", "estop_one_frame_lost")]
     with tempfile.TemporaryDirectory() as tmp:
         store = SessionStore(Path(tmp) / "store")
         store.add_subject(Subject("B01", mass_kg=75.0))
-        print(f"{'path':<22} {'halted':>7} {'travel max °':>13} {'halt max ms':>12} {'periods':>8}")
-        for path in PATHS:
-            runs = [one_run(store, path, seed) for seed in range(repeats)]
-            travel = [r["travel_deg"] for r in runs]
-            halt = [r["halt_ms"] for r in runs]
-            row = {"halted": int(sum(r["halted"] for r in runs)), "runs": repeats,
-                   "travel_deg_max": float(np.nanmax(travel)), "travel_deg_median": float(np.nanmedian(travel)),
-                   "halt_ms_max": float(np.nanmax(halt)), "halt_ms_median": float(np.nanmedian(halt)),
-                   "halt_periods_max": float(np.nanmax(halt)) / (1000 * TELEMETRY_PERIOD_S),
-                   "unconfirmed_alarms": int(sum(r.get("unconfirmed_alarm", 0.0) for r in runs))}
-            out["paths"][path] = row
-            print(f"{path:<22} {row['halted']:>4}/{repeats:<2} {row['travel_deg_max']:>13.3f} "
-                  f"{row['halt_ms_max']:>12.1f} {row['halt_periods_max']:>8.2f}")
+        for wire in WIRES:
+            paths: dict[str, Any] = {}
+            print(f"\n{wire}\n{'path':<22} {'halted':>7} {'travel max °':>13} {'halt max ms':>12} {'periods':>8}")
+            for path in PATHS:
+                runs = [one_run(store, path, seed, wire) for seed in range(repeats)]
+                travel = [r["travel_deg"] for r in runs]
+                halt = [r["halt_ms"] for r in runs]
+                row = {"halted": int(sum(r["halted"] for r in runs)), "runs": repeats,
+                       "travel_deg_max": float(np.nanmax(travel)), "travel_deg_median": float(np.nanmedian(travel)),
+                       "halt_ms_max": float(np.nanmax(halt)), "halt_ms_median": float(np.nanmedian(halt)),
+                       "halt_periods_max": float(np.nanmax(halt)) / (1000 * TELEMETRY_PERIOD_S),
+                       "unconfirmed_alarms": int(sum(r.get("unconfirmed_alarm", 0.0) for r in runs))}
+                paths[path] = row
+                print(f"{path:<22} {row['halted']:>4}/{repeats:<2} {row['travel_deg_max']:>13.3f} "
+                      f"{row['halt_ms_max']:>12.1f} {row['halt_periods_max']:>8.2f}")
+            out["wires"][wire] = {
+                "paths": paths,
+                "commanded_paths_travel_deg_max": max(paths[p]["travel_deg_max"] for p in commanded),
+                "commanded_paths_halt_periods_max": max(paths[p]["halt_periods_max"] for p in commanded)}
         store.close()
-    commanded = [p for p in PATHS if p not in ("lost_host", "estop_never_arrives", "estop_one_frame_lost")]
-    out["commanded_paths_travel_deg_max"] = max(out["paths"][p]["travel_deg_max"] for p in commanded)
-    out["commanded_paths_halt_periods_max"] = max(out["paths"][p]["halt_periods_max"] for p in commanded)
+    # the headline keys are the CiA 402 drive's (the simulated lab's default dynamometer)
+    out["paths"] = out["wires"]["cia402"]["paths"]
+    out["commanded_paths_travel_deg_max"] = out["wires"]["cia402"]["commanded_paths_travel_deg_max"]
+    out["commanded_paths_halt_periods_max"] = out["wires"]["cia402"]["commanded_paths_halt_periods_max"]
     return out

@@ -95,6 +95,23 @@ class ForcePlateBlock(SampleBlock):
 
 
 @dataclass(frozen=True)
+class StreamBlock(SampleBlock):
+    """Samples of another system's stream (Lab Streaming Layer: a goniometer, an EMG system).
+
+    :ivar values: the stream's channels in its own units, shape (n, channels); the labels and units are
+        the device's ``labels`` and ``units`` (fixed for a stream), in this order.
+    :ivar lsl_time_s: each sample's time stamp on this host's LSL clock (the sender's stamp with LSL's
+        clock offset applied), s.
+    """
+
+    values: np.ndarray
+    lsl_time_s: np.ndarray
+
+    LAYOUT: ClassVar[dict[str, tuple[tuple[int, ...], str]]] = {
+        **SampleBlock.LAYOUT, "values": ((0,), "f8"), "lsl_time_s": ((), "f8")}
+
+
+@dataclass(frozen=True)
 class MarkerBlock(SampleBlock):
     """Motion-capture frames: marker positions in the lab frame.
 

@@ -73,6 +73,27 @@ def build_parser() -> argparse.ArgumentParser:
         rec.add_argument(p.option, dest=p.dest, default=None, **_option_of(p))
     rec.add_argument("--seed", type=int, default=0)
 
+    imp = sub.add_parser("import-xdf", help="a LabRecorder XDF file (the instrument's outlets beside EMG, goniometers, "
+                         "...) as a trial of the store")
+    imp.add_argument("file", type=Path, help="the .xdf file")
+    imp.add_argument("--protocol", choices=kinds.names(aliases=True), required=True,
+                     help="the trial's kind (its condition from the options below, as for record)")
+    imp.add_argument("--store", type=Path, default=None, help="store folder (default: the user's data folder)")
+    imp.add_argument("--subject", required=True, help="pseudonymous subject code (added to the store if new)")
+    imp.add_argument("--operator", default="operator-1")
+    for p in kinds.all_parameters():
+        imp.add_argument(p.option, dest=p.dest, default=None, **_option_of(p))
+
+    serve = sub.add_parser("simulate-lab", help="the simulated lab as its own process: its devices reached as real "
+                           "ones (CiA 402 drive over slcan on a pty, Modbus RTU and the plate over TCP, LSL senders), "
+                           "named in a lab file")
+    serve.add_argument("--lab-file", type=Path, default=Path("simulated_lab.toml"), help="the lab file to write")
+    serve.add_argument("--protocol", choices=kinds.names(aliases=True), default="knee",
+                       help="whose rig and subject to simulate (default knee)")
+    serve.add_argument("--seconds", type=float, default=None, help="serve this long (default: until Ctrl-C)")
+    serve.add_argument("--no-streams", action="store_true", help="no LSL goniometer and EMG senders")
+    serve.add_argument("--seed", type=int, default=0)
+
     probe_cmd = sub.add_parser("devices", help="probe the lab file's devices: which answer, at what rate, with what limits")
     probe_cmd.add_argument("--lab", type=Path, required=True, metavar="LAB.toml")
     ses = sub.add_parser("sessions", help="list subjects, sessions and trials of a store")
@@ -368,6 +389,37 @@ def cmd_record(args: argparse.Namespace) -> int:
     return 0 if out.status == "recorded" else 1
 
 
+def cmd_simulate_lab(args: argparse.Namespace) -> int:
+    from .sim.lab_process import serve_lab
+
+    try:
+        serve_lab(kinds.get(args.protocol).protocol(), args.lab_file, seconds=args.seconds, streams=not args.no_streams,
+                  seed=args.seed, say=lambda line: print(line, flush=True))
+    except KeyboardInterrupt:  # Ctrl-C is how a served lab ends
+        print("simulated lab stopped")
+    return 0
+
+
+def cmd_import_xdf(args: argparse.Namespace) -> int:
+    from .offline.xdf import import_xdf, read_xdf
+
+    kind = kinds.get(args.protocol)
+    proto = kind.protocol(**{p.name: getattr(args, p.dest) for p in kind.parameters if getattr(args, p.dest) is not None})
+    read_xdf(args.file)  # refused before the store is touched
+    with _store(args.store) as store:
+        try:
+            store.subject(args.subject)
+        except KeyError:
+            store.add_subject(Subject(args.subject))
+        session = store.new_session(args.subject, args.operator, notes=f"imported from {args.file.name}")
+        trial_id = import_xdf(args.file, store, session, proto, operator=args.operator)
+        trial = store.trial(trial_id)
+    counts = ", ".join(f"{n}: {c['samples']} samples, {c['lost_samples']} lost" for n, c in trial.devices.items())
+    print(f"trial {trial_id} ({proto.name}, {proto.condition_text() or 'default settings'}) imported from "
+          f"{args.file.name}: {counts}")
+    return 0
+
+
 def _record_on_lab(args: argparse.Namespace, proto: kinds.TrialProtocol) -> int:
     """One trial on the lab file's devices, with the live checks the operator window runs: refused
     unless every device the trial needs answers and the dynamometer reports the lab's envelope."""
@@ -378,7 +430,7 @@ def _record_on_lab(args: argparse.Namespace, proto: kinds.TrialProtocol) -> int:
 
     source = HardwareSource.from_lab_file(args.lab)
     assert source.lab is not None
-    probes = probe(source.lab, list(proto.devices))
+    probes = probe(source.lab, [*proto.devices, *source.lab.streams])
     for p in probes:
         print(p.line())
     silent = [p for p in probes if not p.answered]
@@ -506,8 +558,9 @@ def main(argv: list[str] | None = None) -> int:
             from .sim.demo import main as demo_main
 
             return demo_main(args.seconds, args.out, faults=not args.no_faults, cohort_subjects=args.cohort)
-        return {"record": cmd_record, "devices": cmd_devices, "sessions": cmd_sessions, "export": cmd_export,
-                "analyze": cmd_analyze, "diagnose": cmd_diagnose, "gui": cmd_gui}[args.command](args)
+        return {"record": cmd_record, "import-xdf": cmd_import_xdf, "simulate-lab": cmd_simulate_lab,
+                "devices": cmd_devices, "sessions": cmd_sessions, "export": cmd_export, "analyze": cmd_analyze,
+                "diagnose": cmd_diagnose, "gui": cmd_gui}[args.command](args)
     except KeyboardInterrupt:
         print("error: interrupted", file=sys.stderr)
         return 130

@@ -7,6 +7,8 @@ import os
 import pytest
 
 os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
+# liblsl's warnings only (the instrument's own setting; tests that import pylsl first would get INFO lines)
+os.environ.setdefault("LSLAPICFG", os.path.join(os.path.dirname(__file__), "..", "drivers", "lsl", "lsl_api.cfg"))
 
 
 def pytest_addoption(parser: pytest.Parser) -> None:

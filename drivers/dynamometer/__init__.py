@@ -4,6 +4,7 @@ Open by URL; the scheme is the python-can interface, the host the channel::
 
     open_dynamometer("virtual://dyno")                 # the simulator's bus
     open_dynamometer("socketcan://can0?node=16&rate=100")
+    open_dynamometer("canopen://socketcan/can0?node=3")  # a CiA 402 servo drive (CANopen)
 
 Every motion command is checked against :class:`DynamometerLimits` before it is sent; a command
 outside them, or a value the wire cannot carry (NaN, inf, below its resolution, above its range),
@@ -29,6 +30,8 @@ _CAN = ("drivers.dynamometer.can_driver", "CanDynamometer")
 BACKENDS: dict[str, tuple[str, str]] = {
     name: _CAN for name in ("virtual", "socketcan", "pcan", "kvaser", "vector", "slcan", "udp_multicast", "ixxat")
 }
+#: a CiA 402 servo drive over CANopen: canopen://<python-can interface>/<channel>
+BACKENDS["canopen"] = ("drivers.dynamometer.canopen_driver", "CanopenDynamometer")
 
 
 def _wire(value: float, lsb: float, low: int, high: int, what: str, unit: str) -> int:

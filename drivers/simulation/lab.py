@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..dynamometer.cia402_simulator import Cia402DriveSimulator
 from ..dynamometer.simulator import DynamometerSimulator
 from ..forceplate.simulator import ForcePlateSimulator
 from ..mocap.simulator import MarkerSimulator
@@ -43,6 +44,9 @@ class LabConfig:
     dyno_faults: FaultConfig = field(default_factory=FaultConfig)
     torque_faults: FaultConfig = field(default_factory=FaultConfig)
     seed: int = 0
+    #: the dynamometer's wire: "cia402" (a CANopen CiA 402 servo drive, as research dynamometers are built)
+    #: or "frames" (the project's own CAN frame set, kept for the rigs that speak it)
+    dynamometer_protocol: str = "cia402"
 
 
 class SimulatedLab:
@@ -53,9 +57,10 @@ class SimulatedLab:
         channel = f"lab-{os.getpid()}-{next(_channel_ids)}"
         self.jig = AadsJig(c.afo, operator=c.operator, seed=c.seed)
         self.force_plate = ForcePlateSimulator(self.jig, c.plate_rate_hz, faults=c.plate_faults, seed=c.seed)
-        self.dynamometer = DynamometerSimulator(c.leg, channel=channel, telemetry_rate_hz=c.telemetry_rate_hz,
-                                                start_position_deg=c.dyno_start_position_deg,
-                                                faults=c.dyno_faults, seed=c.seed)
+        dyno_class = {"cia402": Cia402DriveSimulator, "frames": DynamometerSimulator}[c.dynamometer_protocol]
+        self.dynamometer: Cia402DriveSimulator | DynamometerSimulator = dyno_class(
+            c.leg, channel=channel, telemetry_rate_hz=c.telemetry_rate_hz, start_position_deg=c.dyno_start_position_deg,
+            faults=c.dyno_faults, seed=c.seed)
         self.mocap = MarkerSimulator(self.jig, c.mocap_rate_hz, noise_m=c.marker_noise_m,
                                      occlusion_rate=c.occlusion_rate, time_origin_s=self.force_plate.time_origin_s,
                                      seed=c.seed, name=f"markers-{channel}")
@@ -63,7 +68,8 @@ class SimulatedLab:
                                                    output_rate_hz=c.torque_output_rate_hz)
         self.urls = {
             "force_plate": f"{self.force_plate.url}?rate={c.plate_rate_hz}",
-            "dynamometer": f"virtual://{channel}?rate={c.telemetry_rate_hz}",
+            "dynamometer": (f"canopen://virtual/{channel}?rate={c.telemetry_rate_hz}" if c.dynamometer_protocol == "cia402"
+                            else f"virtual://{channel}?rate={c.telemetry_rate_hz}"),
             "torque_sensor": self.torque_sensor.url,
             "mocap": self.mocap.url,
         }

@@ -14,10 +14,12 @@ import time
 from abc import abstractmethod
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass, replace
+from pathlib import Path
 from typing import Any, ClassVar
 
 import numpy as np
 
+from analysis.c3d import write_analog_c3d
 from analysis.constants import GRAVITY_M_S2
 from analysis.errors import AnalysisError
 from analysis.pmp.model_diagnosis import folds_of
@@ -260,12 +262,51 @@ class IsokineticKind(TrialKind):
         fixed = {"hip_flexion_deg": cond["hip_flexion_deg"],
                  "knee_flexion_deg": cond.get("knee_flexion_deg"),
                  "ankle_dorsiflexion_deg": cond.get("ankle_dorsiflexion_deg")}
+        fixed.update(measured_fixed_angles(trial, t0, t1))
         return TrialTable(cols, {"kind": self.table_kind, **{k: v for k, v in fixed.items() if v is not None},
                                  **({"movement": "out_and_back"} if cond.get("returns") else {}),
                                  "subject": {k: v for k, v in (subject or {}).items() if v is not None},
                                  "source": trial.path.name, "trial_status": trial.status,
                                  # the arm turns with the limb: its inertia is in the torque (its weight is not)
                                  "arm_inertia_kgm2": float(cond["arm_mass_kg"]) * float(cond["arm_com_m"]) ** 2})
+
+    #: the trial's marks written as C3D events
+    C3D_EVENTS = ("sweep_start", "sweep_turn", "sweep_end", "halted", "emergency_stop", "activation")
+
+    def write_c3d(self, trial: Any, out: Path) -> None:
+        """The whole recording's dynamometer channels as C3D analog channels, as Vicon Nexus stores a
+        dynamometer's: ``Torque`` (the shaft's, Nm), ``TorqueLimb`` (the arm's weight removed, Nm), ``Angle``
+        (deg), ``Velocity`` (deg/s), at the telemetry rate; the protocol's marks as events; the condition in
+        the ``DYNAMOMETER`` group. Samples the link lost are filled by linear interpolation along the
+        device counter and counted (``DYNAMOMETER:FILLED_SAMPLES``)."""
+        cond = trial.metadata["protocol"]["condition"]
+        d = trial.devices["dynamometer"]
+        ch = d.channels
+        counter = np.asarray(ch["counter"], dtype=np.int64)
+        if counter.size < 2:
+            raise ExportError(f"{trial.path}: fewer than two dynamometer samples; nothing to write as C3D")
+        grid = np.arange(counter[0], counter[-1] + 1)
+        time_s = np.interp(grid, counter, ch["time_s"])
+        rate = float(d.identity.get("telemetry_rate_hz") or 0.0) or float(1.0 / np.median(np.diff(time_s)))
+        angle = np.rad2deg(np.interp(grid, counter, ch["position_rad"]))
+        torque = np.interp(grid, counter, ch["torque_nm"])
+        limb = torque + self.arm_gravity_nm(angle, cond["arm_mass_kg"], cond["arm_com_m"], cond)
+        velocity = np.rad2deg(np.interp(grid, counter, ch["velocity_rad_s"]))
+        events = [(str(e["kind"]), float(e["time_s"]) - float(time_s[0])) for e in trial.events
+                  if e.get("kind") in self.C3D_EVENTS and "time_s" in e]
+        params: dict[str, float | str] = {"JOINT": str(cond.get("joint", self.name)), "KIND": self.name,
+                                          "FILLED_SAMPLES": float(grid.size - counter.size),
+                                          "STATUS": str(trial.status)}
+        for key in ("speed_deg_s", "hip_flexion_deg", "knee_flexion_deg", "ankle_dorsiflexion_deg", "arm_mass_kg",
+                    "arm_com_m", "start_deg", "end_deg"):
+            if isinstance(cond.get(key), int | float):
+                params[key] = float(cond[key])
+        try:
+            write_analog_c3d(out, rate, [("Torque", "Nm", torque), ("TorqueLimb", "Nm", limb), ("Angle", "deg", angle),
+                                         ("Velocity", "deg/s", velocity)],
+                             events=events, group="DYNAMOMETER", parameters=params)
+        except AnalysisError as err:
+            raise ExportError(f"{trial.path}: {err}") from err
 
     def analyse_set(self, protocol: TrialProtocol, trials: Sequence[Any], subject: dict[str, float]) -> str:
         tables = [t.table() for t in trials]
@@ -292,6 +333,33 @@ class IsokineticKind(TrialKind):
         if table is not None:
             leg = replace(leg, passive_table_deg=table[0], passive_table_nm=table[1])
         return {"leg": leg, "dyno_start_position_deg": protocol.start_deg}
+
+
+#: a goniometer channel measuring a fixed joint (its label) -> the sidecar key of the measured angle
+GONIOMETER_CHANNELS = {"hip_flexion": "hip_flexion_measured_deg", "knee_flexion": "knee_flexion_measured_deg"}
+
+
+def measured_fixed_angles(trial: Any, t0: float | None, t1: float | None) -> dict[str, Any]:
+    """The fixed joints' angles as a goniometer stream recorded them during the sweep (median, deg), with the
+    stream that measured them: ``{"hip_flexion_measured_deg": 53.2, "hip_flexion_measured_by": "goniometer"}``.
+    Only a channel labelled as in :data:`GONIOMETER_CHANNELS` with a unit in degrees counts; none: ``{}``."""
+    out: dict[str, Any] = {}
+    for name, device in trial.devices.items():
+        labels, units = device.identity.get("labels") or [], device.identity.get("units") or []
+        if "values" not in device.channels:
+            continue
+        t = device.channels["time_s"]
+        inside = (t >= (t0 if t0 is not None else -np.inf)) & (t <= (t1 if t1 is not None else np.inf))
+        for k, (label, unit) in enumerate(zip(labels, units)):
+            key = GONIOMETER_CHANNELS.get(label)
+            if key is None or unit.lower() not in ("deg", "degree", "degrees") or key in out:
+                continue
+            values = device.channels["values"][inside, k]
+            values = values[np.isfinite(values)]
+            if values.size:
+                out[key] = float(np.median(values))
+                out[key.replace("_deg", "_by")] = name
+    return out
 
 
 def knee_arm_gravity_nm(angle_deg: np.ndarray, arm_mass_kg: float, arm_com_m: float) -> np.ndarray:

@@ -19,6 +19,10 @@ A lab file is TOML, read by the command line (``instrument devices --lab``, ``in
     [lsl]
     publish = true                  # every device stream as a Lab Streaming Layer outlet (LabRecorder)
 
+    [streams]                       # other systems' LSL streams recorded into every trial (name = lsl://...)
+    emg = "lsl://?type=EMG"         # an EMG stream (type EMG) adds its envelope to the live relaxation check
+    goniometer = "lsl://?name=Goniometer"  # a channel labelled hip_flexion gives the pmp fit the measured hip
+
 Nothing in it names a subject. Units are in the keys; the envelope may only narrow the driver's
 own defaults.
 """
@@ -34,6 +38,7 @@ from typing import Any
 
 from drivers import DEVICE_OPENERS, DriverError, DynamometerLimits, StreamingDevice, open_device
 from drivers.dynamometer import SUBJECT_ENVELOPE_DEG, SUBJECT_MAX_SPEED_DEG_S, SUBJECT_MAX_TORQUE_NM
+from drivers.lsl import open_lsl_stream
 
 from ..errors import InstrumentError
 from .monitors import SafetyLimits
@@ -56,6 +61,8 @@ class LabFile:
     probe_seconds: float = PROBE_SECONDS
     #: publish every device stream as a Lab Streaming Layer outlet (``[lsl] publish = true``)
     lsl_publish: bool = False
+    #: other systems' LSL streams recorded beside the devices (``[streams]`` name = ``lsl://...``)
+    streams: dict[str, str] = field(default_factory=dict)
 
     @classmethod
     def load(cls, path: str | Path) -> LabFile:
@@ -98,8 +105,17 @@ class LabFile:
         lsl = data.get("lsl", {})
         if not isinstance(lsl, dict) or not isinstance(lsl.get("publish", False), bool):
             raise LabFileError(f"{p}: [lsl] publish must be true or false")
+        streams = data.get("streams", {})
+        if not isinstance(streams, dict):
+            raise LabFileError(f"{p}: [streams] must be a table (name = \"lsl://?type=...\")")
+        for name, url in streams.items():
+            if name in DEVICE_OPENERS or not str(name).isidentifier():
+                raise LabFileError(f"{p}: [streams] {name}: a stream's name must be a word that is not a device kind")
+            if not isinstance(url, str) or not url.startswith("lsl://"):
+                raise LabFileError(f"{p}: [streams] {name}: {url!r} is not an LSL stream URL (lsl://?type=... or ?name=...)")
         return cls(p, {str(k): str(v) for k, v in devices.items()},
-                   SafetyLimits((rom[0], rom[1]), speed, torque), seconds, bool(lsl.get("publish", False)))
+                   SafetyLimits((rom[0], rom[1]), speed, torque), seconds, bool(lsl.get("publish", False)),
+                   {str(k): str(v) for k, v in streams.items()})
 
     def driver_limits(self) -> DynamometerLimits:
         """The envelope as the dynamometer driver enforces it (it refuses any command outside)."""
@@ -111,6 +127,8 @@ class LabFile:
 
         :raises LabFileError: the lab file has no such device.
         """
+        if kind in self.streams:
+            return open_lsl_stream(self.streams[kind], name=kind)
         if kind not in self.devices:
             raise LabFileError(f"{self.path}: no {kind} in [devices] (the trial needs it)")
         extra: dict[str, Any] = {"limits": self.driver_limits()} if kind == "dynamometer" else {}
@@ -134,6 +152,10 @@ class DeviceProbe:
         if not self.answered:
             return f"{self.kind:<14} {self.url}  NO ANSWER: {self.problem}"
         what = self.identity.get("protocol") or self.identity.get("model") or ""
+        if self.identity.get("labels"):  # another system's stream: what it is and which channels
+            what += (f" {self.identity.get('stream_type', '')} '{self.identity.get('stream_name', '')}': "
+                     + ", ".join(f"{lab} ({unit})" if unit else lab
+                                 for lab, unit in zip(self.identity["labels"], self.identity.get("units", []))))
         limits = self.identity.get("limits")
         lim = (f", limits ROM {math.degrees(limits['rom_min_rad']):.0f}..{math.degrees(limits['rom_max_rad']):.0f}°"
                f" speed ≤ {math.degrees(limits['max_speed_rad_s']):.0f}°/s torque ≤ {limits['max_torque_nm']:.0f} N·m"
@@ -149,10 +171,10 @@ def probe(lab: LabFile, kinds: list[str] | None = None) -> list[DeviceProbe]:
     report the lab's envelope back as its limits. Nothing is commanded to move.
     """
     out = []
-    for kind in kinds or list(lab.devices):
-        url = lab.devices.get(kind, "")
+    for kind in kinds or [*lab.devices, *lab.streams]:
+        url = lab.devices.get(kind, "") or lab.streams.get(kind, "")
         if not url:
-            out.append(DeviceProbe(kind, "(none)", False, problem="not in the lab file's [devices]"))
+            out.append(DeviceProbe(kind, "(none)", False, problem="not in the lab file's [devices] or [streams]"))
             continue
         try:
             dev = lab.open(kind)
@@ -199,8 +221,11 @@ def _limits_differ(lab: LabFile, identity: dict[str, Any]) -> str:
     if not isinstance(reported, dict):
         return "the dynamometer does not report its limits: they cannot be read back"
     wanted = lab.driver_limits().as_dict()
+    # a drive holds its limits in its own units: equal within half a step of the coarsest wire in use
+    # (0.001° and 0.001 °/s of a CiA 402 drive, 0.01 N·m of its per-mille torque)
+    tolerance = {"max_torque_nm": 0.01}
     off = [k for k, v in wanted.items() if not math.isclose(float(reported.get(k, float("nan"))), v, rel_tol=1e-9,
-                                                            abs_tol=1e-12)]
+                                                            abs_tol=tolerance.get(k, 1e-5))]
     return f"limits read back differ from the lab file's: {', '.join(off)}" if off else ""
 
 

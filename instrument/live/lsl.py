@@ -32,6 +32,10 @@ CONTENT_TYPE = {"dynamometer": "Torque", "torque_sensor": "Torque", "force_plate
 DEFAULT_RATE_HZ = {"dynamometer": 100.0, "torque_sensor": 100.0, "force_plate": 1000.0, "mocap": 100.0}
 
 
+#: the outlets' manufacturer field (an XDF importer recognises the instrument's own streams by it)
+MANUFACTURER = "afo-gait-instrument"
+
+
 def unit_of(channel: str) -> str:
     """The channel's unit from its name's suffix (``torque_nm`` → ``N.m``; a count has none)."""
     for suffix, unit in UNIT_BY_SUFFIX:
@@ -68,8 +72,9 @@ class LslPublisher:
 
     def __init__(self, devices: dict[str, StreamingDevice], *, source: str = "instrument", session: str = "0",
                  subject_code: str | None = None) -> None:
-        import pylsl
+        from drivers.lsl import import_pylsl
 
+        pylsl = import_pylsl()
         self._pylsl = pylsl
         self.devices, self.source, self.session, self.subject_code = devices, source, session, subject_code
         self.outlets: dict[str, Any] = {}
@@ -95,7 +100,7 @@ class LslPublisher:
             ch = channels.append_child("channel")
             ch.append_child_value("label", label)
             ch.append_child_value("unit", unit)
-        info.desc().append_child_value("manufacturer", "afo-gait-instrument")
+        info.desc().append_child_value("manufacturer", MANUFACTURER)
         if subject_code:
             info.desc().append_child_value("subject", subject_code)
         self.outlets[name] = pylsl.StreamOutlet(info, chunk_size=0, max_buffered=60)

@@ -20,6 +20,7 @@ Delay, sensitivity and false alarms are measured by ``python -m benchmarks relax
 from __future__ import annotations
 
 from collections import deque
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -32,11 +33,17 @@ LIVE_DETECTION_FLOOR_NM = 1.0
 
 @dataclass
 class ActivationAlarm:
-    """An activation flagged at ``time_s`` (s) at ``angle_deg``; ``excess_nm`` is the prediction error then."""
+    """An activation flagged at ``time_s`` (s) at ``angle_deg``; ``excess_nm`` is the torque's prediction error
+    then (NaN when the EMG saw it); ``source`` says which check: ``"torque"`` or ``"emg <channel>"``."""
 
     time_s: float
     angle_deg: float
     excess_nm: float
+    source: str = "torque"
+
+    def what(self) -> str:
+        """What the check saw, for the operator: the torque's excess (N·m) or the EMG's envelope."""
+        return f"{self.excess_nm:+.1f} N·m" if self.source == "torque" else self.source
 
 
 @dataclass
@@ -114,4 +121,81 @@ class RelaxationMonitor:
                 self._t.popleft()
                 self._a.popleft()
                 self._q.popleft()
+        return raised
+
+
+@dataclass
+class EmgEnvelopeMonitor:
+    """Causal activation detector on EMG channels (V), beside the torque check when a lab streams EMG.
+
+    The envelope is each channel's RMS over the last ``window_s``; the relaxed baseline is its median
+    over the first ``baseline_s`` of the stream (the trial's set-up and positioning, the subject relaxed
+    and strapped in; were they not, the torque check and the operator say so). Alarms are raised only
+    while ``armed`` (the runner arms it during the sweep). An alarm is raised when a channel's envelope stays
+    above ``ratio`` × its baseline for ``min_duration_s``; then that channel is quiet for ``hold_off_s``.
+    ``labels`` name the channels in the alarm's source.
+    """
+
+    labels: tuple[str, ...]
+    window_s: float = 0.1
+    baseline_s: float = 1.0
+    ratio: float = 4.0
+    min_duration_s: float = 0.05
+    hold_off_s: float = 1.0
+    alarms: list[ActivationAlarm] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        k = len(self.labels)
+        self._t: deque[float] = deque()
+        self._sq: deque[np.ndarray] = deque()
+        self._sum_sq = np.zeros(k)
+        self._t0: float | None = None
+        self._baseline_rms: list[list[float]] = [[] for _ in range(k)]
+        self._baseline: np.ndarray | None = None
+        self._above_since = np.full(k, np.nan)
+        self._quiet_until = np.full(k, -np.inf)
+
+    @property
+    def baseline_v(self) -> np.ndarray | None:
+        """Each channel's relaxed RMS (V), once the baseline period is over."""
+        return self._baseline
+
+    def update(self, time_s: np.ndarray, values: np.ndarray, angle_at: Callable[[float], float], *,
+               armed: bool = True) -> list[ActivationAlarm]:
+        """Feed samples (``values`` shape (n, channels)) in time order; ``angle_at(t)`` gives the joint angle
+        (deg) at time ``t`` for the alarm. Returns the alarms raised (none unless ``armed``)."""
+        raised = []
+        values = np.asarray(values, dtype=float).reshape(len(time_s), len(self.labels))
+        for t, v in zip(np.asarray(time_s, dtype=float), values):
+            if not np.all(np.isfinite(v)):
+                continue  # a damaged sample: neither in the envelope nor in the baseline
+            t = float(t)
+            self._t0 = t if self._t0 is None else self._t0
+            sq = v * v
+            self._t.append(t)
+            self._sq.append(sq)
+            self._sum_sq += sq
+            while self._t and self._t[0] < t - self.window_s:
+                self._t.popleft()
+                self._sum_sq -= self._sq.popleft()
+            if t - self._t0 < self.window_s:
+                continue  # the first window is not full yet
+            rms = np.sqrt(np.maximum(self._sum_sq, 0.0) / len(self._t))
+            if self._baseline is None:
+                for channel, r in enumerate(rms):
+                    self._baseline_rms[channel].append(float(r))
+                if t - self._t0 >= self.baseline_s:
+                    self._baseline = np.array([max(float(np.median(b)), 1e-12) for b in self._baseline_rms])
+                continue
+            above = (rms > self.ratio * self._baseline) & armed
+            self._above_since[~above] = np.nan
+            for k in (int(i) for i in np.flatnonzero(above)):
+                if np.isnan(self._above_since[k]):
+                    self._above_since[k] = t
+                if t - self._above_since[k] >= self.min_duration_s and t >= self._quiet_until[k]:
+                    alarm = ActivationAlarm(t, angle_at(t), float("nan"),
+                                            f"emg {self.labels[k]} {rms[k] / self._baseline[k]:.1f}× its relaxed RMS")
+                    self.alarms.append(alarm)
+                    raised.append(alarm)
+                    self._quiet_until[k] = t + self.hold_off_s
         return raised

@@ -26,7 +26,7 @@ from ..kinds.base import TrialProtocol
 from ..store import SessionStore
 from .acquisition import AcquisitionEngine, Sink
 from .monitors import AadsLoopWatch, SafetyLimits, monitors_for
-from .relaxation import ActivationAlarm, RelaxationMonitor
+from .relaxation import ActivationAlarm, EmgEnvelopeMonitor, RelaxationMonitor
 from .session import TrialOutcome, record_trial
 
 
@@ -82,7 +82,11 @@ class TrialRunner:
                  monitor: RelaxationMonitor | None = None, on_done: Callable[[TrialRunner], None] | None = None,
                  sinks: list[Sink] | None = None) -> None:
         self.store, self.session_id, self.protocol = store, session_id, protocol
-        self.devices = {n: devices[n] for n in protocol.devices}
+        # the protocol's devices, and any other system's streams the lab records beside them (LSL inlets)
+        self.devices = {n: d for n, d in devices.items() if n in protocol.devices or d.kind == "lsl"}
+        missing = [n for n in protocol.devices if n not in devices]
+        if missing:
+            raise ProtocolError(f"{protocol.name} needs {', '.join(missing)}")
         self.limits = limits or SafetyLimits()
         problems = self.limits.violations(protocol)
         if problems:
@@ -95,6 +99,9 @@ class TrialRunner:
         self.limit_monitor, self.relaxation_watch = monitors_for(protocol, self.limits, monitor)
         self.monitor = self.relaxation_watch.monitor if self.relaxation_watch is not None else None
         self.aads_watch = AadsLoopWatch(protocol, {}) if protocol.live_aads_loop else None
+        #: EMG streams' envelope checks, beside the torque's (made once a stream is open and its channels known)
+        self.emg_monitors: dict[str, EmgEnvelopeMonitor] = {}
+        self._last_angle_deg = float("nan")
         self.stop_event = threading.Event()
         self._state = LiveState()
         self._lock = threading.Lock()
@@ -191,7 +198,7 @@ class TrialRunner:
             a = s.alarms[0]
             # the time in the trial (from its start), not the host's clock
             return (f"muscle activation detected at {a.angle_deg:.1f}° ({a.time_s - self._t0:.1f} s into the "
-                    f"trial, {a.excess_nm:+.1f} N·m)")
+                    f"trial, {a.what()})")
         if s.limit_breaches:
             return "limit breached: " + s.limit_breaches[0]
         if s.phase == "done":
@@ -299,14 +306,35 @@ class TrialRunner:
                 data, marks["dynamometer"] = self.engine.rings["dynamometer"].since(marks["dynamometer"])
                 if len(data["time_s"]):
                     self._check_dynamometer(data)
+            for name in self._emg_streams():
+                data, marks[name] = self.engine.rings[name].since(marks[name])
+                if len(data["time_s"]):  # the baseline from the set-up, alarms during the sweep
+                    self._check_emg(name, data)
             if self.protocol.live_aads_loop and time.monotonic() - last_aads > 0.25:
                 last_aads = time.monotonic()
                 self._update_aads()
         if self.protocol.live_aads_loop:
             self._update_aads()
 
+    def _emg_streams(self) -> list[str]:
+        """The recorded streams that are EMG (LSL type ``EMG``), once open."""
+        return [n for n, d in self.devices.items() if getattr(d, "stream_type", "") == "EMG" and n in self.engine.rings]
+
+    def _check_emg(self, name: str, data: dict[str, np.ndarray]) -> None:
+        """The EMG envelope check (:class:`~instrument.live.relaxation.EmgEnvelopeMonitor`) on new samples."""
+        if name not in self.emg_monitors:
+            self.emg_monitors[name] = EmgEnvelopeMonitor(tuple(getattr(self.devices[name], "labels", ())))
+        new = self.emg_monitors[name].update(data["time_s"], data["values"], lambda t: self._last_angle_deg,
+                                             armed=self.sweep_started.is_set())
+        if new:
+            with self._lock:
+                self._state.alarms.extend(new)
+            for a in new:
+                self._mark("activation", time_s=a.time_s, angle_deg=a.angle_deg, source=a.source)
+
     def _check_dynamometer(self, d: dict[str, np.ndarray]) -> None:
         pos = np.rad2deg(d["position_rad"])
+        self._last_angle_deg = float(pos[-1])
         vel = np.rad2deg(d["velocity_rad_s"])
         tq = d["torque_nm"]
         breach = self.limit_monitor.check(pos, vel, tq) if self.limit_monitor is not None else None

@@ -38,6 +38,8 @@ class HardwareSource:
             raise ProtocolError(f"no URL configured for {', '.join(missing)} (needed by {protocol.name})")
         devices = {n: self.lab.open(n) if self.lab is not None else open_device(n, self.urls[n])
                    for n in protocol.devices}
+        if self.lab is not None:  # other systems' streams, recorded into every trial beside the devices
+            devices.update({n: self.lab.open(n) for n in self.lab.streams})
         try:
             yield devices
         finally:

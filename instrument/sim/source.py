@@ -9,6 +9,7 @@ from __future__ import annotations
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager
+from dataclasses import replace
 from typing import Any
 
 from drivers import StreamingDevice
@@ -27,13 +28,16 @@ class SimulatedSource:
     simulated = True
     live_markers = True
 
-    def __init__(self, seed: int = 0) -> None:
+    def __init__(self, seed: int = 0, *, dynamometer_protocol: str = "cia402") -> None:
         self.seed = seed
+        #: the simulated dynamometer's wire ("cia402" or "frames", :class:`~drivers.simulation.lab.LabConfig`)
+        self.dynamometer_protocol = dynamometer_protocol
         self.lab: SimulatedLab | None = None
 
     @contextmanager
     def devices(self, protocol: TrialProtocol) -> Iterator[dict[str, StreamingDevice]]:
-        with simulated_devices(protocol, lab_config_for(protocol, seed=self.seed)) as (lab, devices):
+        config = replace(lab_config_for(protocol, seed=self.seed), dynamometer_protocol=self.dynamometer_protocol)
+        with simulated_devices(protocol, config) as (lab, devices):
             self.lab = lab
             try:
                 yield devices

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import re
 from pathlib import Path
 
@@ -12,7 +13,7 @@ from instrument.cli import main
 from instrument.kinds.knee import KneeProtocol
 from instrument.live.lab import LabFile, LabFileError, probe
 from instrument.sim.simulate import lab_config_for
-from instrument.store import SessionStore
+from instrument.store import SessionStore, Subject
 
 
 def write_lab(path: Path, urls: dict[str, str], limits: str = "") -> Path:
@@ -123,3 +124,52 @@ def test_the_lab_file_can_publish_the_trial_as_lab_streaming_layer_outlets(knee_
     listener.join()
     assert code == 0
     assert any(s.startswith("instrument:store-") and s.endswith(":dynamometer") for s in seen), seen
+
+
+def test_lab_streams_are_recorded_beside_the_devices_emg_flags_a_burst_and_the_goniometer_gives_the_hip(
+        tmp_path: Path) -> None:
+    pytest.importorskip("pylsl")
+    import os
+    import time
+
+    from analysis.pmp.report import trial_from_table
+    from drivers.simulation.lsl_outlets import emg, goniometer
+    from instrument import kinds
+    from instrument.live.recording import read_trial
+    from instrument.live.runner import TrialRunner
+    from instrument.live.sources import HardwareSource
+
+    tag = f"{os.getpid()}-{time.monotonic_ns()}"
+    proto = KneeProtocol(end_deg=20.0, speed_deg_s=10.0, hip_flexion_deg=55.0)
+    sim = SimulatedLab(lab_config_for(proto, seed=6))
+    gon, emg_sender = goniometer(f"gon-{tag}", hip_deg=52.0, seed=2), emg(f"emg-{tag}", seed=4)
+    try:
+        path = write_lab(tmp_path / "lab.toml", {"dynamometer": sim.urls["dynamometer"]},
+                         limits=f'[streams]\nemg = "lsl://?source_id=emg-{tag}"\n'
+                                f'goniometer = "lsl://?source_id=gon-{tag}"\n')
+        source = HardwareSource.from_lab_file(path)
+        assert source.lab is not None and set(source.lab.streams) == {"emg", "goniometer"}
+        with SessionStore(tmp_path / "store") as store, source.devices(proto) as devices:
+            store.add_subject(Subject("S01", mass_kg=75.0))
+            runner = TrialRunner(store, store.new_session("S01"), proto, devices, limits=source.lab.limits)
+            runner.start()
+            assert runner.sweep_started.wait(20.0), runner.snapshot().error
+            emg_sender.burst_after(0.5)  # the subject tenses half a second into the sweep
+            assert runner.wait(30.0)
+            snap = runner.snapshot()
+            trial = read_trial(store.trial(snap.outcome.trial_id).path)
+            why = runner.suggested_rejection()
+    finally:
+        gon.close()
+        emg_sender.close()
+        sim.close()
+    assert {"dynamometer", "emg", "goniometer"} <= set(trial.devices)
+    assert trial.devices["emg"].channels["values"].shape[1] == 4 and trial.devices["emg"].identity["labels"][0] == \
+        "rectus_femoris"
+    assert len(trial.devices["goniometer"].channels["time_s"]) > 100
+    assert [a.source.split()[:2] for a in snap.alarms] == [["emg", "rectus_femoris"]]
+    assert why is not None and "emg rectus_femoris" in why
+    table = kinds.get("knee").table(trial)
+    assert table.sidecar["hip_flexion_deg"] == 55.0 and table.sidecar["hip_flexion_measured_by"] == "goniometer"
+    assert table.sidecar["hip_flexion_measured_deg"] == pytest.approx(52.0, abs=0.1)
+    assert trial_from_table(table).fixed_rad["hip"] == pytest.approx(math.radians(table.sidecar["hip_flexion_measured_deg"]))
