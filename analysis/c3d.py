@@ -197,4 +197,56 @@ def write_c3d(path: str | Path, trial: MotionTrial, *, corners_m: np.ndarray | N
         raise DataFileError(path, f"cannot write C3D: {err}") from err
 
 
-__all__ = ["read_c3d", "write_c3d", "cop_from_moment"]
+def write_analog_c3d(path: str | Path, rate_hz: float, channels: list[tuple[str, str, np.ndarray]], *,
+                     start_s: float = 0.0, events: list[tuple[str, float]] | None = None,
+                     group: str = "", parameters: dict[str, float | str] | None = None) -> None:
+    """Write evenly sampled channels as C3D analog channels, as motion-capture software stores a
+    dynamometer's (Vicon Nexus: torque, angle and velocity as analog channels with their units).
+
+    ``channels``: ``(label, unit, values)`` with equal lengths (units as C3D writes them: ``Nm``, ``deg``,
+    ``deg/s``); ``events``: ``(label, time s from the first sample)`` written to the ``EVENT`` group;
+    ``group``/``parameters``: a parameter group of numbers and texts describing the trial (its condition).
+    The file has no markers (``POINT:USED`` 0). NaN values are refused: fill or cut them first.
+
+    :raises InputError: no channel, unequal lengths, a NaN, or a rate that is not positive.
+    """
+    import ezc3d
+
+    path = Path(path)
+    if not channels:
+        raise InputError("nothing to write: no analog channel")
+    n = len(channels[0][2])
+    if n == 0 or any(len(v) != n for _, _, v in channels):
+        raise InputError("analog channels must be non-empty and of equal length")
+    data = np.vstack([np.asarray(v, dtype=float) for _, _, v in channels])
+    if not np.all(np.isfinite(data)):
+        raise InputError("analog channels hold NaN or infinite values; fill or cut them before writing C3D")
+    if not rate_hz > 0:
+        raise InputError(f"analog rate must be positive, got {rate_hz}")
+    c = ezc3d.c3d()
+    p = c["parameters"]
+    p["POINT"]["RATE"]["value"] = [float(rate_hz)]
+    p["ANALOG"]["RATE"]["value"] = [float(rate_hz)]
+    p["ANALOG"]["LABELS"]["value"] = [label for label, _, _ in channels]
+    p["ANALOG"]["UNITS"]["value"] = [unit for _, unit, _ in channels]
+    c["data"]["points"] = np.ones((4, 0, n))
+    c["data"]["analogs"] = data[None]
+    if events:
+        c.add_parameter("EVENT", "USED", np.asarray([len(events)], dtype=float))
+        c.add_parameter("EVENT", "LABELS", [label for label, _ in events])
+        c.add_parameter("EVENT", "CONTEXTS", ["General"] * len(events))
+        times = np.array([[0.0, float(t)] for _, t in events]).T  # (minutes, seconds) per event
+        c.add_parameter("EVENT", "TIMES", times)
+    for key, value in (parameters or {}).items():
+        if isinstance(value, str):
+            c.add_parameter(group, key.upper(), [value])
+        else:
+            c.add_parameter(group, key.upper(), np.asarray([float(value)]))
+    c["header"]["points"]["first_frame"] = int(round(start_s * rate_hz))
+    try:
+        c.write(str(path))
+    except Exception as err:
+        raise DataFileError(path, f"cannot write C3D: {err}") from err
+
+
+__all__ = ["read_c3d", "write_analog_c3d", "write_c3d", "cop_from_moment"]

@@ -180,6 +180,26 @@ class MainWindow(QtWidgets.QMainWindow):
 
         main = QtWidgets.QVBoxLayout()
         root.addLayout(main, 1)
+        # the alarm banner: an e-stop, an activation, a limit breach or a bend past the stop stays on screen
+        # (and Start stays disabled) until the operator acknowledges it
+        self.banner = QtWidgets.QFrame()
+        self.banner.setStyleSheet("background:#c00; color:white; font-weight:bold; font-size:15px")
+        banner_row = QtWidgets.QHBoxLayout(self.banner)
+        self.banner_text = QtWidgets.QLabel("")
+        self.banner_text.setWordWrap(True)
+        self.banner_button = QtWidgets.QPushButton("Acknowledge")
+        self.banner_button.setStyleSheet("background:white; color:#c00; font-weight:bold; padding:6px")
+        self.banner_button.clicked.connect(self.acknowledge_alarms)
+        banner_row.addWidget(self.banner_text, 1)
+        banner_row.addWidget(self.banner_button, 0)
+        self.banner.hide()
+        main.addWidget(self.banner)
+        self._banner_lines: list[str] = []
+        self._banner_seen: set[str] = set()
+        # relaxed / active: what the relaxation checks say of the subject during a sweep
+        self.relaxed_label = QtWidgets.QLabel("subject: —")
+        self.relaxed_label.setStyleSheet("font-size:14px; font-weight:bold; padding:4px; color:#666")
+        main.addWidget(self.relaxed_label)
         self.instructions = QtWidgets.QLabel("")
         self.instructions.setWordWrap(True)
         self.instructions.setStyleSheet("font-size:14px; padding:4px")
@@ -387,7 +407,7 @@ class MainWindow(QtWidgets.QMainWindow):
             self._last_verdict is None
         needs_subject = self.kind().needs_anthropometrics
         ready = self.checklist.complete and (self._anthropometrics_ok() or not needs_subject)
-        self.start_button.setEnabled(ready and not running and not finished)
+        self.start_button.setEnabled(ready and not running and not finished and not self.banner_raised)
         self.stop_button.setEnabled(running)
         snap = self.runner.snapshot() if self.runner is not None else None
         # a trial that ended by an emergency stop is not accepted: it is repeated
@@ -409,6 +429,9 @@ class MainWindow(QtWidgets.QMainWindow):
 
     def start_trial(self) -> None:
         """Start a trial; the devices are opened, run and closed on a trial thread, never on this one."""
+        if self.banner_raised:
+            self.verdict.setText("Acknowledge the alarm first (the red banner).")
+            return
         if not self.checklist.complete:
             self.verdict.setText("Confirm the checklist first: " + "; ".join(self.checklist.missing()))
             return
@@ -425,6 +448,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self._setup_error = None
         self._last_verdict = None
         self.estop_alarm = None
+        self._banner_seen.clear()  # the new trial's alarms are its own
         self._set_plot_mode(kinds.get(protocol.name))
         # the previous trial's devices may still be closing: the new trial thread waits for that
         self._trial_thread = threading.Thread(target=self._run_trial, args=(protocol, session, self._trial_thread),
@@ -534,6 +558,8 @@ class MainWindow(QtWidgets.QMainWindow):
             self._update_buttons()
         if runner is not None:
             snap = runner.snapshot()
+            self._alarms_to_banner(snap)
+            self._relaxed_indicator(snap, runner)
             if snap.estop_unconfirmed is not None and self.estop_alarm is None:
                 self._raise_estop_alarm(snap.estop_unconfirmed)
             if snap.phase in ("done", "failed") and self._last_verdict is None and not self.verdict.text().startswith(
@@ -547,12 +573,67 @@ class MainWindow(QtWidgets.QMainWindow):
                 self._update_buttons()
             elif snap.phase == "running" and snap.alarms:
                 a = snap.alarms[-1]
-                self.verdict.setText(f"ACTIVATION flagged at {a.angle_deg:.1f}° ({a.excess_nm:+.1f} N·m): "
+                self.verdict.setText(f"ACTIVATION flagged at {a.angle_deg:.1f}° ({a.what()}): "
                                      "the trial will be offered for repeat.")
             elif snap.phase == "running" and (hint := runner.protocol.live_hint(snap)):
                 self.verdict.setText(hint)
             elif snap.phase == "running" and not self.verdict.text().startswith(("Recording", "EMERGENCY")):
                 self.verdict.setText(f"Recording {runner.protocol.name} …")
+
+    # ------------------------------------------------------------------ alarms the operator acknowledges
+    @property
+    def banner_raised(self) -> bool:
+        """True while an alarm is on the banner, unacknowledged."""
+        return bool(self._banner_lines)
+
+    def raise_alarm(self, key: str, text: str) -> None:
+        """Put ``text`` on the banner (once per ``key``: an alarm is raised once, however often it is seen)."""
+        if key in self._banner_seen:
+            return
+        self._banner_seen.add(key)
+        self._banner_lines.append(text)
+        shown = self._banner_lines[-3:]
+        more = len(self._banner_lines) - len(shown)
+        self.banner_text.setText("\n".join(shown) + (f"\n(+{more} earlier)" if more else ""))
+        self.banner.show()
+        self._update_buttons()
+
+    def acknowledge_alarms(self) -> None:
+        """The operator has seen the alarms: the banner goes; Start is possible again."""
+        self._banner_lines.clear()
+        self.banner.hide()
+        self._update_buttons()
+
+    def _alarms_to_banner(self, snap: Any) -> None:
+        if snap.emergency_stop_s is not None:
+            state = ("confirmed by the dynamometer" if snap.estop_confirmed_s is not None else
+                     "NOT CONFIRMED: " + snap.estop_unconfirmed if snap.estop_unconfirmed else "sent")
+            self.raise_alarm(f"estop-{snap.emergency_stop_s}-{state[:9]}", f"EMERGENCY STOP {state}")
+        for k, a in enumerate(snap.alarms):
+            self.raise_alarm(f"activation-{k}", f"ACTIVATION at {a.angle_deg:.1f}° ({a.what()})")
+        for k, breach in enumerate(snap.limit_breaches):
+            self.raise_alarm(f"limit-{k}", f"LIMIT BREACHED: {breach}")
+        if snap.aads_past_stop:
+            self.raise_alarm("past-stop", f"BEND PAST THE STOP: peak {snap.aads_peak_deg:.1f}° (the fit window "
+                                          "ends before it; the trial's record says so)")
+
+    def _relaxed_indicator(self, snap: Any, runner: TrialRunner) -> None:
+        """RELAXED (green) while a monitored sweep runs without an alarm in the last second, ACTIVE (red)
+        after one; a dash when nothing is being checked."""
+        watched = runner.relaxation_watch is not None or bool(runner.emg_monitors)
+        if snap.phase != "running" or not watched or not runner.sweep_started.is_set():
+            self.relaxed_label.setText("subject: —")
+            self.relaxed_label.setStyleSheet("font-size:14px; font-weight:bold; padding:4px; color:#666")
+            return
+        recent = [a for a in snap.alarms if time.monotonic() - a.time_s < 1.0]
+        if recent:
+            self.relaxed_label.setText(f"subject: ACTIVE ({recent[-1].what()})")
+            self.relaxed_label.setStyleSheet("font-size:14px; font-weight:bold; padding:4px; color:white; "
+                                             "background:#c00")
+        else:
+            self.relaxed_label.setText("subject: relaxed")
+            self.relaxed_label.setStyleSheet("font-size:14px; font-weight:bold; padding:4px; color:white; "
+                                             "background:#2a2")
 
     def _raise_estop_alarm(self, why: str) -> None:
         """A modal alarm the operator must acknowledge: the device did not confirm the e-stop."""

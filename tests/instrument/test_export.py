@@ -118,6 +118,21 @@ def test_recorded_trials_export_with_the_documented_conventions(tmp_path: Path) 
     assert steady.sum() > 50
     err = table.torque_nm[steady] - expected[steady]
     assert np.abs(err).max() < 0.4 and abs(err.mean()) < 0.1  # 0.05 N·m noise; one 10 ms sample ≈ 0.25 N·m here
+    # the same trial as C3D, as a Vicon lab keeps a dynamometer: analog channels with units, marks as events
+    import ezc3d
+
+    export_trial(trial, "c3d", tmp_path / "knee.c3d")
+    c = ezc3d.c3d(str(tmp_path / "knee.c3d"))
+    p = c["parameters"]
+    assert p["ANALOG"]["LABELS"]["value"] == ["Torque", "TorqueLimb", "Angle", "Velocity"]
+    assert p["ANALOG"]["UNITS"]["value"] == ["Nm", "Nm", "deg", "deg/s"]
+    assert p["ANALOG"]["RATE"]["value"][0] == pytest.approx(100.0)
+    analog = c["data"]["analogs"][0]
+    dyno = trial.devices["dynamometer"].channels
+    assert analog.shape[1] == int(dyno["counter"][-1] - dyno["counter"][0] + 1)
+    assert np.allclose(analog[2, :len(dyno["position_rad"])][:50], np.rad2deg(dyno["position_rad"][:50]), atol=1e-4)
+    assert p["DYNAMOMETER"]["HIP_FLEXION_DEG"]["value"][0] == 90.0 and p["DYNAMOMETER"]["JOINT"]["value"] == ["knee"]
+    assert {"sweep_start", "sweep_end"} <= set(p["EVENT"]["LABELS"]["value"])
     aads = AadsProtocol(spring=3, duration_s=1.5)
     with simulated_devices(aads) as (lab, devices):
         out = record_trial(store, session, aads, devices)

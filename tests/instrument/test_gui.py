@@ -67,7 +67,9 @@ def test_knee_trial_flags_a_burst_is_repeated_then_accepted(qtbot, window: MainW
     window.confirm_checklist()
     qtbot.mouseClick(window.start_button, QtCore.Qt.MouseButton.LeftButton)
     qtbot.waitUntil(lambda: window.runner is not None and window.runner.sweep_started.is_set(), timeout=20000)
+    qtbot.waitUntil(lambda: window.relaxed_label.text() == "subject: relaxed", timeout=5000)
     window.source.inject_burst(4.0, delay_s=1.5)  # at 15° of 30°: past the detector warm-up
+    qtbot.waitUntil(lambda: window.relaxed_label.text().startswith("subject: ACTIVE"), timeout=10000)
     run_to_end(qtbot, window)
     snap = window.runner.snapshot()
     assert snap.alarms, "a 4 N·m burst must be flagged"
@@ -82,9 +84,14 @@ def test_knee_trial_flags_a_burst_is_repeated_then_accepted(qtbot, window: MainW
     assert read_trial(rec.path).devices["dynamometer"].samples > 100  # a rejected trial keeps its data
     events = [e["kind"] for e in read_trial(rec.path).events]
     assert "activation" in events
-    # repeat the same condition, relaxed this time: the checklist is confirmed again first
+    # repeat the same condition, relaxed this time: the checklist is confirmed again first, and the
+    # activation's banner stays (Start disabled) until the operator acknowledges it
     assert not window.start_button.isEnabled()
     window.confirm_checklist()
+    assert window.banner.isVisible() and "ACTIVATION at" in window.banner_text.text()
+    assert not window.start_button.isEnabled()
+    qtbot.mouseClick(window.banner_button, QtCore.Qt.MouseButton.LeftButton)
+    assert not window.banner.isVisible() and window.start_button.isEnabled()
     qtbot.mouseClick(window.start_button, QtCore.Qt.MouseButton.LeftButton)
     run_to_end(qtbot, window)
     assert not window.runner.snapshot().alarms
@@ -112,6 +119,7 @@ def test_escape_is_an_emergency_stop_that_reaches_the_dynamometer(qtbot, window:
     assert rec.status == "interrupted"
     assert "emergency_stop" in [e["kind"] for e in read_trial(rec.path).events]
     assert "emergency stop" in (window.runner.suggested_rejection() or "")
+    assert window.banner.isVisible() and "EMERGENCY STOP confirmed by the dynamometer" in window.banner_text.text()
 
 
 def test_aads_trial_draws_the_loop_and_checks_the_fit_window(qtbot, window: MainWindow, tmp_path: Path) -> None:
