@@ -48,6 +48,14 @@ class Burst:
         return np.where((u >= 0) & (u <= 1), self.amplitude_nm * np.sin(np.pi * np.clip(u, 0, 1)), 0.0)
 
 
+def riener_passive_moment_nm(leg: SeatedLeg, position_deg: np.ndarray) -> np.ndarray:
+    """Riener & Edrich's passive moment of ``leg``'s moving joint toward positive angles (N·m), whatever
+    table the simulated subject uses (the published normative model, for an expected band)."""
+    if leg.joint == "knee":
+        return riener_knee_flexion_moment_nm(leg.hip_flexion_deg, position_deg, leg.ankle_dorsiflexion_deg)
+    return riener_ankle_dorsiflexion_moment_nm(leg.knee_flexion_deg, position_deg)
+
+
 @dataclass
 class SeatedLeg:
     """The subject and the dynamometer arm.
@@ -95,9 +103,7 @@ class SeatedLeg:
         """Elastic joint moment toward positive angles (N·m)."""
         if self.passive_table_deg:
             return np.interp(np.asarray(position_deg, dtype=float), self.passive_table_deg, self.passive_table_nm)
-        if self.joint == "knee":
-            return riener_knee_flexion_moment_nm(self.hip_flexion_deg, position_deg, self.ankle_dorsiflexion_deg)
-        return riener_ankle_dorsiflexion_moment_nm(self.knee_flexion_deg, position_deg)
+        return riener_passive_moment_nm(self, position_deg)
 
     def gravity_moment_nm(self, position_deg: np.ndarray, include_arm: bool = True) -> np.ndarray:
         """Gravity moment toward positive angles (N·m) of the distal segments (and the arm)."""

@@ -8,12 +8,17 @@ from pathlib import Path
 from ..live.sources import HardwareSource
 from ..sim.source import SimulatedSource
 from ..store import SessionStore, default_store_dir
+from .system import check_gui_system
 
 
 def run(*, simulate: bool, store_dir: Path | None = None, urls: dict[str, str] | None = None,
         subject: str = "SIM01", operator: str = "operator-1", seconds: float | None = None,
         lab_file: Path | None = None) -> int:
-    """Open the window; ``seconds`` closes it after that long (smoke runs). Returns the exit code."""
+    """Open the window; ``seconds`` closes it after that long (smoke runs). Returns the exit code.
+
+    :raises GuiSystemError: the X11 libraries Qt needs are missing (named, with their packages).
+    """
+    check_gui_system()
     from PySide6 import QtCore, QtWidgets
 
     from .window import MainWindow

@@ -132,6 +132,7 @@ class MainWindow(QtWidgets.QMainWindow):
             w.setSpecialValueText("required")  # 0 is "not entered", never a value
             subj.addRow(label, w)
             w.valueChanged.connect(self._update_buttons)
+            w.valueChanged.connect(lambda *_: self._draw_band() if hasattr(self, "band_lo") else None)
         self.subject_button = QtWidgets.QPushButton("Save subject")
         self.subject_button.clicked.connect(self.save_subject)
         self.subject_label = QtWidgets.QLabel("")
@@ -224,6 +225,12 @@ class MainWindow(QtWidgets.QMainWindow):
         self.curve_a = self.plot_a.plot(pen=pg.mkPen("#1f77b4", width=1))  # width 1: thick pens are slow in Qt raster
         self.curve_b = self.plot_b.plot(pen=pg.mkPen("#ff7f0e", width=1))
         self.curve_c = self.plot_a.plot(pen=pg.mkPen("#2ca02c", width=1))  # monitor: the replica torque sensor
+        # the expected band of a kind that has one (a relaxed subject's torque against angle)
+        self.band_lo = pg.PlotDataItem(pen=pg.mkPen((120, 200, 120, 160), width=1))
+        self.band_hi = pg.PlotDataItem(pen=pg.mkPen((120, 200, 120, 160), width=1))
+        self.band_fill = pg.FillBetweenItem(self.band_lo, self.band_hi, brush=pg.mkBrush(80, 180, 80, 50))
+        for item in (self.band_fill, self.band_lo, self.band_hi):
+            self.plot_a.addItem(item)
         self.alarm_points = pg.ScatterPlotItem(size=14, brush=pg.mkBrush(220, 0, 0, 200), symbol="x")
         self.plot_a.addItem(self.alarm_points)
         self._curves = Curves()  # what a kind's live view draws on
@@ -338,6 +345,8 @@ class MainWindow(QtWidgets.QMainWindow):
             item.setCheckState(QtCore.Qt.CheckState.Unchecked)
             self.check_list.addItem(item)
         self.check_list.blockSignals(False)
+        if hasattr(self, "band_lo"):
+            self._draw_band()  # the band follows the settings (hip angle, arm weight)
         if hasattr(self, "start_button"):
             self._update_buttons()
 
@@ -399,6 +408,24 @@ class MainWindow(QtWidgets.QMainWindow):
         self.curve_b.setData([], [])
         self.curve_c.setData([], [])
         self.alarm_points.setData([], [])
+        self._draw_band()
+
+    def _draw_band(self) -> None:
+        """The kind's expected band for the current settings and subject (cleared where there is none)."""
+        view = self.kind().view
+        band = None
+        if view.band is not None:
+            try:
+                band = view.band(self.protocol(), self._subject_entries())
+            except (ProtocolError, ValueError):
+                band = None  # settings the protocol refuses: no band until they are valid
+        if band is None:
+            self.band_lo.setData([], [])
+            self.band_hi.setData([], [])
+        else:
+            x, lo, hi = band
+            self.band_lo.setData(x, lo)
+            self.band_hi.setData(x, hi)
 
     def _update_buttons(self) -> None:
         running = (self.runner is not None and self.runner.snapshot().phase == "running") or (

@@ -218,6 +218,9 @@ class LiveView:
     b_labels: tuple[str, str]
     draw: Callable[[Curves, dict[str, Any], Any], None]
     marks_fit_window: bool = False
+    #: the expected band on the upper plot for a protocol and the entered subject (``mass_kg``,
+    #: ``shank_length_m``, ``foot_length_m``): (x, low, high) arrays, or None where a kind has none
+    band: Callable[[Any, dict[str, float]], tuple[Any, Any, Any] | None] | None = None
 
 
 class TrialKind(ABC):

@@ -28,7 +28,7 @@ from analysis.trial_csv import TrialTable
 from drivers import DriverError, Dynamometer, StreamingDevice
 from drivers.dynamometer import DEFAULT_LIMITS, SUBJECT_MAX_SPEED_DEG_S
 from drivers.simulation.demo_subject import passive_table
-from drivers.simulation.seated_leg import SeatedLeg
+from drivers.simulation.seated_leg import SeatedLeg, riener_passive_moment_nm
 
 from ..errors import ExportError, ProtocolError
 from .base import (
@@ -204,17 +204,44 @@ def _device_time_s(device: Any, keep: np.ndarray) -> np.ndarray:
 
 
 def _draw(curves: Curves, rings: dict[str, Any], snapshot: Any) -> None:
+    """A passive sweep is read as torque against angle (upper plot, beside the expected band), the
+    angle against time below (the sweep's progress)."""
     if "dynamometer" not in rings:
         return
     d = rings["dynamometer"].latest()
     if not len(d["time_s"]):
         return
     t0 = d["time_s"][0]
-    curves.a.setData(d["time_s"] - t0, d["torque_nm"])
-    curves.b.setData(d["time_s"] - t0, np.rad2deg(d["position_rad"]))
+    angle = np.rad2deg(d["position_rad"])
+    curves.a.setData(angle, d["torque_nm"])
+    curves.b.setData(d["time_s"] - t0, angle)
     if snapshot is not None and snapshot.alarms:
-        at = np.array([a.time_s for a in snapshot.alarms]) - t0
-        curves.alarms.setData(at, np.interp(at, d["time_s"] - t0, d["torque_nm"]))
+        at = np.array([a.time_s for a in snapshot.alarms])
+        curves.alarms.setData(np.interp(at, d["time_s"], angle), np.interp(at, d["time_s"], d["torque_nm"]))
+
+
+#: the expected band's width: Riener & Edrich's subjects' passive moments vary by about this fraction
+#: between subjects, plus a floor for the limb's weight and the arm's set-up (N·m)
+BAND_FRACTION, BAND_FLOOR_NM = 0.3, 1.5
+
+
+def expected_band(protocol: Any, subject: dict[str, float]) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """The shaft torque a relaxed subject is expected to show over the sweep (N·m, held still): Riener &
+    Edrich's published passive moments (1999) for the set joint angles, the limb's weight from the entered
+    anthropometrics and the arm's weight, ± (30 % of the passive moment + 1.5 N·m). None before the
+    anthropometrics are entered."""
+    if not isinstance(protocol, IsokineticProtocol) or not all(subject.get(k, 0) > 0 for k in
+                                                               ("mass_kg", "shank_length_m", "foot_length_m")):
+        return None
+    leg = SeatedLeg(joint=protocol.joint, **protocol.fixed_angles_deg(), body_mass_kg=subject["mass_kg"],
+                    shank_length_m=subject["shank_length_m"], foot_length_m=subject["foot_length_m"],
+                    arm_mass_kg=protocol.arm_mass_kg, arm_com_m=protocol.arm_com_m)
+    lo, hi = sorted((protocol.start_deg, protocol.end_deg))
+    angle = np.linspace(lo, hi, 60)
+    passive = riener_passive_moment_nm(leg, angle)
+    middle = -passive - leg.gravity_moment_nm(angle)
+    half = BAND_FRACTION * np.abs(passive) + BAND_FLOOR_NM
+    return angle, middle - half, middle + half
 
 
 #: what every isokinetic kind asks (the same parameter in each, so the form and the CLI share it)
@@ -237,7 +264,7 @@ class IsokineticKind(TrialKind):
 
     analysis = PASSIVE_PARAMETERS
     needs_anthropometrics = True
-    view = LiveView(("torque (N·m)", "time (s)"), ("angle (°)", "time (s)"), _draw)
+    view = LiveView(("torque (N·m)", "angle (°)"), ("angle (°)", "time (s)"), _draw, band=expected_band)
 
     @abstractmethod
     def arm_gravity_nm(self, angle_deg: np.ndarray, arm_mass_kg: float, arm_com_m: float,

@@ -49,7 +49,8 @@ class KneeKind(IsokineticKind):
 
     def instructions(self) -> str:
         return ("Knee: subject seated, hip as set, relaxed. The dynamometer moves the knee from full extension to "
-                "flexion at the set speed. Red crosses mark torque the passive tissue cannot make (activation).")
+                "flexion at the set speed. The torque is drawn against the angle beside the green band a relaxed "
+                "subject is expected in; red crosses mark torque the passive tissue cannot make (activation).")
 
     def arm_gravity_nm(self, angle_deg: np.ndarray, arm_mass_kg: float, arm_com_m: float,
                        condition: dict[str, Any]) -> np.ndarray:
