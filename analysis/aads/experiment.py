@@ -138,49 +138,71 @@ def write_report(experiment: AadsExperiment, out_dir: str | Path,
     springs = sorted({r.factors.get("spring") for r in experiment.results}, key=lambda s: (s is None, s or 0))
     operators = sorted({r.factors.get("operator") for r in experiment.results}, key=lambda s: (s is None, s or 0))
     colors = {op: f"C{i}" for i, op in enumerate(operators)}
-    fig = Figure(figsize=(4 * len(springs), 7), layout="constrained")
+    # Figure 2.4's layout: one panel per spring, the torque–angle loops of every trial (coloured by operator),
+    # the spring theory overlaid, the fit window shaded and the spring's mean fit line drawn across it
+    fig = Figure(figsize=(4.2 * len(springs), 4.4), layout="constrained")
     FigureCanvasAgg(fig)
-    axes = fig.subplots(2, len(springs), squeeze=False, sharex=True)
-    for j, spring in enumerate(springs):
-        top, bottom = axes[0, j], axes[1, j]
+    axes = fig.subplots(1, len(springs), squeeze=False, sharey=True)[0]
+    for ax, spring in zip(axes, springs, strict=True):
+        mine = [r for r in experiment.results if r.factors.get("spring") == spring]
         seen = set()
-        for r in experiment.results:
-            if r.factors.get("spring") != spring:
-                continue
+        for r in mine:
             op = r.factors.get("operator")
-            label = f"operator {op}" if op not in seen else None
+            ax.plot(r.angle_deg, r.afo_torque_nm, color=colors[op], lw=0.8, alpha=0.8, zorder=3,
+                    label=f"operator {op} (SOP)" if op not in seen else None)
             seen.add(op)
-            top.plot(r.angle_deg, r.afo_torque_nm, color=colors[op], lw=0.6, alpha=0.7, label=label)
-            if r.theory is not None:
-                bottom.plot(r.theory.angle_deg, r.theory.torque_nm, color=colors[op], lw=0.6, alpha=0.7)
-        for ax in (top, bottom):
-            ax.axvspan(*window_deg, color="0.92", zorder=0)
-            ax.grid(alpha=0.3)
-        top.set_title(f"spring {spring}: static optimisation")
-        bottom.set_title(f"spring {spring}: theory (eqs 2.1–2.9)")
-        bottom.set_xlabel("dorsiflexion (°)")
-        if j == 0:
-            top.set_ylabel("AFO torque (N·m)")
-            bottom.set_ylabel("spring torque (N·m)")
-            top.legend(fontsize=7)
+        theory = next((r.theory for r in mine if r.theory is not None and r.theory.angle_deg.size), None)
+        if theory is not None:
+            order = np.argsort(theory.angle_deg)
+            ax.plot(theory.angle_deg[order], theory.torque_nm[order], "--", color="0.45", lw=1.0, zorder=2,
+                    label="theory (eqs 2.1–2.9)")
+        fits = [r.stiffness.fits.get(r.stiffness.reported_branch) for r in mine]
+        fits = [f for f in fits if f is not None]
+        k = np.array([f.slope_nm_per_deg for f in fits])
+        if fits:
+            x = np.array(window_deg, dtype=float)
+            b = float(np.mean([f.intercept_nm for f in fits]))
+            ax.plot(x, float(np.mean(k)) * x + b, color="k", lw=1.4, alpha=0.85, zorder=4,
+                    label=f"mean {mine[0].stiffness.reported_branch} fit ({window_deg[0]:g}–{window_deg[1]:g}°)")
+        ax.axvspan(*window_deg, color="0.9", zorder=0)
+        ax.grid(alpha=0.3)
+        th = np.array([r.theoretical_stiffness_nm_per_deg for r in mine])
+        th_text = f", theory {np.mean(th[np.isfinite(th)]):.3f}" if np.isfinite(th).any() else ""
+        spread = f" ± {np.std(k, ddof=1):.3f}" if k.size > 1 else ""  # one trial has no spread to show
+        ax.set_title(f"spring {spring}: {np.mean(k):.3f}{spread} N·m/° ({k.size} trial{'s' * (k.size != 1)}{th_text})"
+                     if k.size else f"spring {spring}: no fit", fontsize=9)
+        ax.set_xlabel("dorsiflexion (°)")
+        ax.legend(fontsize=6, loc="upper left")
+    axes[0].set_ylabel("AFO torque (N·m)")
     files.append(out / "torque_angle.png")
     fig.savefig(files[-1], dpi=110)
-    fig2 = Figure(figsize=(5, 4.5), layout="constrained")
+    # SOP against theory: every trial (by operator), each spring's mean ± SD with its label, the identity line
+    fig2 = Figure(figsize=(5.2, 4.6), layout="constrained")
     FigureCanvasAgg(fig2)
     ax = fig2.subplots()
-    k = np.array([r.stiffness_nm_per_deg for r in experiment.results])
-    th = np.array([r.theoretical_stiffness_nm_per_deg for r in experiment.results])
+    k_all = np.array([r.stiffness_nm_per_deg for r in experiment.results])
+    th_all = np.array([r.theoretical_stiffness_nm_per_deg for r in experiment.results])
     ops = [r.factors.get("operator") for r in experiment.results]
     for op in operators:
         sel = np.array([o == op for o in ops])
-        ax.scatter(th[sel], k[sel], s=14, color=colors[op], label=f"operator {op}")
-    finite = np.isfinite(th) & np.isfinite(k)
+        ax.scatter(th_all[sel], k_all[sel], s=10, color=colors[op], alpha=0.5, label=f"operator {op}")
+    for spring in springs:
+        sel = np.array([r.factors.get("spring") == spring for r in experiment.results]) & np.isfinite(k_all) \
+            & np.isfinite(th_all)
+        if not sel.any():
+            continue
+        mk, sk = float(np.mean(k_all[sel])), float(np.std(k_all[sel], ddof=1)) if sel.sum() > 1 else 0.0
+        mt = float(np.mean(th_all[sel]))
+        ax.errorbar(mt, mk, yerr=sk, fmt="s", color="k", ms=5, capsize=4, zorder=5)
+        ax.annotate(f"spring {spring}\n{100 * (mk / mt - 1):+.1f} %", (mt, mk), textcoords="offset points",
+                    xytext=(8, -14), fontsize=8)
+    finite = np.isfinite(th_all) & np.isfinite(k_all)
     if finite.any():
-        lim = [0.0, 1.1 * float(max(th[finite].max(), k[finite].max()))]
+        lim = [0.0, 1.15 * float(max(th_all[finite].max(), k_all[finite].max()))]
         ax.plot(lim, lim, "k--", lw=0.8, label="identity")
     ax.set_xlabel("theoretical stiffness (N·m/°)")
-    ax.set_ylabel("SOP stiffness (N·m/°)")
-    ax.legend(fontsize=7)
+    ax.set_ylabel("SOP stiffness (N·m/°), mean ± SD per spring")
+    ax.legend(fontsize=7, loc="upper left")
     ax.grid(alpha=0.3)
     files.append(out / "sop_vs_theory.png")
     fig2.savefig(files[-1], dpi=110)
