@@ -42,7 +42,8 @@ def write_diagnosis_plot(d: Diagnosis, path: str | Path) -> Path:
     a3.axhline(0, color="k", lw=0.5)
     a3.set_xlabel("angle (°)")
     a3.set_ylabel("baseline residual (N·m)")
-    a3.set_title("shaded: systematic (|mean| > 3 SE)", fontsize=8)
+    a3.set_title("shaded: systematic (|mean| > 3 SE)" if d.systematic else "no systematic region (|mean| > 3 SE)",
+                 fontsize=8)
     a3.legend(fontsize=7, markerscale=4)
     a2.plot(prep.t, prep.torque - base, lw=0.6, color="C3", label=f"baseline (RMSE {d.baseline_rmse_nm:.3f} N·m)")
     if d.cause != "none":
@@ -51,6 +52,8 @@ def write_diagnosis_plot(d: Diagnosis, path: str | Path) -> Path:
     a2.set_xlabel("time (s)")
     a2.set_ylabel("residual (N·m)")
     a2.legend(fontsize=7)
-    fig.suptitle(f"{d.kind}: {d.cause}" + (f" (or {', '.join(d.ambiguous_with)})" if d.ambiguous_with else ""))
+    # every cause the text names: the first, any found with it, and what the data cannot tell it from
+    named = " + ".join([d.cause, *(a["cause"] for a in d.also)])
+    fig.suptitle(f"{d.kind}: {named}" + (f" (or {', '.join(d.ambiguous_with)})" if d.ambiguous_with else ""))
     fig.savefig(path, dpi=110)
     return path
