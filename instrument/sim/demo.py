@@ -36,8 +36,8 @@ def _measured(line: str) -> None:
 def _wire_limit_hz(name: str, lab: SimulatedLab) -> float:
     if name == "force_plate":
         return fp_protocol.max_sample_rate_hz(921600)
-    if name == "dynamometer":
-        return dyn_protocol.max_frame_rate_hz()
+    if name == "dynamometer":  # a CiA 402 drive sends two TPDOs per sample, the frame set one frame
+        return dyn_protocol.max_frame_rate_hz() / (2 if lab.config.dynamometer_protocol == "cia402" else 1)
     return registers.max_poll_rate_hz(lab.config.torque_baud)
 
 
@@ -461,57 +461,140 @@ def operator_drill(out: Path) -> tuple[dict[str, Any], bool]:
     return rows, ok
 
 
+def _devices_line(rows: list[dict[str, Any]], ok: bool) -> str:
+    streamed = [r["device"] for r in rows if r["device"] not in POLLED_DEVICES]
+    return (f"{', '.join(streamed)}: " + ("every sample arrived, no CRC error" if ok else
+            "PROBLEM: samples lost or corrupted on a clean link") + f"; {', '.join(sorted(POLLED_DEVICES))}: polled")
+
+
+def _story(report: dict[str, Any], out: Path) -> list[str]:
+    """What the demo found, one or two lines per part, with where its figures are (stdout's story)."""
+    lines = []
+    day = report.get("lab_day") or []
+    recorded = sum(r["status"] == "recorded" for r in day)
+    lines.append(f"[2/8] Lab day: {recorded}/{len(day)} trials recorded into {out / 'store'} (AADS 3 springs, knee at "
+                 f"hip 90/55/15°, ankle at knee 0/45/90°, the replica leg); one export per kind in {out / 'exports'}")
+    afo = report.get("afo") or {}
+    springs = afo.get("table_2_1") or []
+    if springs:
+        lines.append("[3/8] AFO stiffness (AADS, static optimisation): " + "; ".join(
+            f"spring {r['spring']} {r['sop_mean_nm_per_deg']:.3f} N·m/° (theory {r['theoretical_nm_per_deg']:.3f}, "
+            f"{r['percent_difference']:+.1f} %)" for r in springs))
+        named = (afo.get("model_diagnosis") or {}).get("named") or []
+        lines.append(f"      why SOP misses the spring: {' + '.join(named) or 'nothing named'}; figures "
+                     f"{out / 'afo' / 'torque_angle.png'}, {out / 'afo' / 'sop_vs_theory.png'}")
+    pmp = report.get("pmp") or {}
+    if "error" in pmp:
+        lines.append(f"[4/8] Passive muscle-tendon parameters: PROBLEM: {pmp['error']}")
+    elif pmp:
+        ext = pmp.get("extended") or {}
+        held = pmp.get("against_truth") or []
+        lines.append("[4/8] Passive muscle-tendon parameters (collocation, 6 trials): "
+                     + (f"the muscle model lacked {ext['extension']} (residual {ext['plain_misfit_ratio']:.1f}× → "
+                        f"{ext['misfit_ratio']:.1f}× the noise); " if ext else "")
+                     + f"{len(held)} determined, {sum(bool(c['held']) for c in held)} of them with the simulated "
+                     f"subject's truth inside the 95 % interval (" + ", ".join(
+                         f"{c['parameter']} {100 * (c['estimate'] / c['truth'] - 1):+.1f} %" for c in held) + ")")
+        lines.append(f"      figures {out / 'pmp' / 'pmp_fit.png'}, {out / 'pmp' / 'pmp_parameters.png'}")
+    rep = report.get("replica") or {}
+    if rep.get("determined"):
+        errors = rep.get("error_pct") or {}
+        lines.append(f"[5/8] Replica leg (springs on a torque sensor): {len(rep['determined'])} spring parameters "
+                     f"determined, worst {max(abs(errors[n]) for n in rep['determined']):.1f} % from the built springs")
+    drill = report.get("operator_drill") or {}
+    if drill:
+        lines.append(f"[6/8] Operator drill: a 3 N·m burst flagged and the trial {drill['burst']['status']}; the relaxed "
+                     f"repeat {drill['relaxed']['status']}; the e-stop's trial {drill['estop']['status']} "
+                     f"(screens in {out / 'gui'})")
+    found = report.get("diagnosis") or []
+    if found:
+        lines.append("[7/8] Diagnosis of each kind's trial: " + "; ".join(
+            f"{d['protocol']} → {' + '.join([d['cause'], *(a['cause'] for a in d.get('also', []))])}" for d in found))
+    cohort = report.get("cohort") or {}
+    if cohort:
+        eng = cohort.get("engine") or {}
+        lines.append(f"[8/8] Cohort analysis on Dask: {eng.get('solves', 0)} fits, failed {len(eng.get('failed', []))}; "
+                     f"the re-run read {cohort.get('rerun_read_back', 0)} back from the store; figures in {out / 'cohort'}")
+    return lines
+
+
 def main(seconds: float = 4.0, out: Path | None = None, faults: bool = True, quick: bool = True,
          cohort_subjects: int = 0) -> int:
-    """Run the demo; returns a process exit code (0 when every device streamed cleanly)."""
-    print(f"Simulated lab: force plate (serial framing over TCP), dynamometer (CAN, virtual bus), "
-          f"torque sensor (Modbus RTU, {LabConfig().torque_baud} baud emulated); {seconds:.0f} s each run.")
-    clean, lab = run_streams(seconds)
-    rows = [_row(n, r, lab) for n, r in clean.items()]
-    _print_table(rows, "Clean links (every sample should arrive):")
-    phys = physics_summary(clean)
-    _measured(f"  plate Fz {phys['plate_fz_min_n']:.1f}..{phys['plate_fz_max_n']:.1f} N while the operator bends the AFO; "
-          f"dynamometer at {phys['dyno_position_end_deg']:.1f}° after {seconds:.0f} s of a 5°/s knee flexion "
-          f"(torque range {phys['dyno_torque_range_nm']:.2f} N·m); replica-leg torque {phys['torque_sensor_mean_nm']:.2f} N·m")
-    report: dict[str, Any] = {"clean": rows, "physics": phys}
-    ok = all(r["crc_errors"] == 0 and (r["lost_samples"] == 0 or r["device"] in POLLED_DEVICES) for r in rows)
-    streamed = [r["device"] for r in rows if r["device"] not in POLLED_DEVICES]
-    print(f"Clean links: {', '.join(streamed)}: " + ("every sample arrived, no CRC error" if ok else "PROBLEM: "
-          "samples lost or corrupted on a clean link") + f"; {', '.join(sorted(POLLED_DEVICES))}: polled "
-          "(rates and counts, a measurement of this host, on stderr)")
-    for r in rows:
-        if r["device"] in POLLED_DEVICES and r["lost_samples"]:
-            print(f"  NOTE: {r['device']}: {r['lost_samples']} polls unanswered in time on the simulated link "
-                  "(a loaded host); counted as gaps, not hidden")
-    if faults:
-        bad = FaultConfig(drop_rate=0.01, corrupt_rate=0.01, garbage_rate=0.01, truncate_rate=0.005)
-        drill, lab = run_streams(seconds, LabConfig(plate_faults=bad, dyno_faults=bad, torque_faults=bad, seed=1))
-        frows = [_row(n, r, lab) for n, r in drill.items()]
-        _print_table(frows, "Fault drill (1% dropped, 1% corrupted, 1% garbage, 0.5% truncated frames):")
-        counted = all(r["samples"] > 0 and r["gaps"] > 0 and r["crc_errors"] + r["malformed_frames"] > 0
-                      for r in frows)
-        print("Fault drill (1% dropped, 1% corrupted, 1% garbage, 0.5% truncated frames): "
-              + ("on every device the bad frames were counted and skipped and the lost samples are gaps in the "
-                 "device counter" if counted else "PROBLEM: a device's bad frames went uncounted") + ".")
-        report["fault_drill"] = frows
-        ok = ok and all(r["samples"] > 0 for r in frows)
+    """Run the demo; returns a process exit code (0 when every device streamed cleanly).
+
+    Stdout tells the story in a few lines per part (what was done, what was found, where the figures
+    are); every detail goes to ``OUT/demo_report.txt`` and ``OUT/demo.json``; progress and this host's
+    measurements (rates, latencies, solve times) go to stderr."""
+    import contextlib
+
+    story = sys.stdout
+    detail_file = None
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)
-        report["lab_day"], day_ok = lab_day(out, quick)
-        report["afo"], afo_ok = afo_experiment(out, out / "store")
-        report["pmp"], pmp_ok = passive_parameters(out)
-        report["replica"], replica_ok = replica_leg(out)
-        report["operator_drill"], drill_ok = operator_drill(out)
-        replica_ok = replica_ok and drill_ok
-        pmp_ok = pmp_ok and replica_ok
-        report["diagnosis"] = diagnose_recordings(out)
-        report["cohort"], cohort_ok = cohort(out)
-        ok = ok and cohort_ok
-        if cohort_subjects:
-            report["cohort_study"], study_ok = cohort(out, cohort_subjects, bootstrap=10)
-            ok = ok and study_ok
-        ok = ok and pmp_ok
-        ok = ok and day_ok and afo_ok
-        (out / "demo.json").write_text(json.dumps(report, indent=2, default=float))
-        print(f"\nwrote {out / 'demo.json'}")
-    return 0 if ok else 1
+        detail_file = (out / "demo_report.txt").open("w", encoding="utf-8")
+    details = contextlib.redirect_stdout(detail_file) if detail_file is not None else contextlib.nullcontext()
+
+    def say(line: str) -> None:
+        print(line, file=story, flush=True)
+
+    say(f"Simulated lab, reached through the real drivers: force plate (serial framing over TCP), dynamometer "
+        f"(a CiA 402 servo drive over CANopen), torque sensor (Modbus RTU, {LabConfig().torque_baud} baud); "
+        f"{seconds:.0f} s of streaming each run.")
+    try:
+        with details:
+            print(f"Simulated lab: force plate (serial framing over TCP), dynamometer (CiA 402 over CANopen, virtual "
+                  f"bus), torque sensor (Modbus RTU, {LabConfig().torque_baud} baud emulated); {seconds:.0f} s each run.")
+            clean, lab = run_streams(seconds)
+            rows = [_row(n, r, lab) for n, r in clean.items()]
+            _print_table(rows, "Clean links (every sample should arrive):")
+            phys = physics_summary(clean)
+            _measured(f"  plate Fz {phys['plate_fz_min_n']:.1f}..{phys['plate_fz_max_n']:.1f} N while the operator bends "
+                      f"the AFO; dynamometer at {phys['dyno_position_end_deg']:.1f}° after {seconds:.0f} s of a 5°/s knee "
+                      f"flexion (torque range {phys['dyno_torque_range_nm']:.2f} N·m); replica-leg torque "
+                      f"{phys['torque_sensor_mean_nm']:.2f} N·m")
+            report: dict[str, Any] = {"clean": rows, "physics": phys}
+            ok = all(r["crc_errors"] == 0 and (r["lost_samples"] == 0 or r["device"] in POLLED_DEVICES) for r in rows)
+            print(f"Clean links: {_devices_line(rows, ok)} (rates and counts, a measurement of this host, on stderr)")
+            for r in rows:
+                if r["device"] in POLLED_DEVICES and r["lost_samples"]:
+                    print(f"  NOTE: {r['device']}: {r['lost_samples']} polls unanswered in time on the simulated link "
+                          "(a loaded host); counted as gaps, not hidden")
+            drill_text = ""
+            if faults:
+                bad = FaultConfig(drop_rate=0.01, corrupt_rate=0.01, garbage_rate=0.01, truncate_rate=0.005)
+                drill, lab = run_streams(seconds, LabConfig(plate_faults=bad, dyno_faults=bad, torque_faults=bad, seed=1))
+                frows = [_row(n, r, lab) for n, r in drill.items()]
+                _print_table(frows, "Fault drill (1% dropped, 1% corrupted, 1% garbage, 0.5% truncated frames):")
+                counted = all(r["samples"] > 0 and r["gaps"] > 0 and r["crc_errors"] + r["malformed_frames"] > 0
+                              for r in frows)
+                drill_text = ("on every device the bad frames were counted and skipped and the lost samples are gaps "
+                              "in the device counter" if counted else "PROBLEM: a device's bad frames went uncounted")
+                print(f"Fault drill (1% dropped, 1% corrupted, 1% garbage, 0.5% truncated frames): {drill_text}.")
+                report["fault_drill"] = frows
+                ok = ok and all(r["samples"] > 0 for r in frows)
+        say(f"[1/8] Devices: {_devices_line(rows, ok)}" + (f"; fault drill: {drill_text}" if drill_text else ""))
+        if out is None:
+            return 0 if ok else 1
+        with details:
+            report["lab_day"], day_ok = lab_day(out, quick)
+            report["afo"], afo_ok = afo_experiment(out, out / "store")
+            report["pmp"], pmp_ok = passive_parameters(out)
+            report["replica"], replica_ok = replica_leg(out)
+            report["operator_drill"], drill_ok = operator_drill(out)
+            replica_ok = replica_ok and drill_ok
+            pmp_ok = pmp_ok and replica_ok
+            report["diagnosis"] = diagnose_recordings(out)
+            report["cohort"], cohort_ok = cohort(out)
+            ok = ok and cohort_ok
+            if cohort_subjects:
+                report["cohort_study"], study_ok = cohort(out, cohort_subjects, bootstrap=10)
+                ok = ok and study_ok
+            ok = ok and pmp_ok and day_ok and afo_ok
+            (out / "demo.json").write_text(json.dumps(report, indent=2, default=float))
+        for line in _story(report, out):
+            say(line)
+        say(f"Every detail: {out / 'demo_report.txt'}; every number as JSON: {out / 'demo.json'}")
+        return 0 if ok else 1
+    finally:
+        if detail_file is not None:
+            detail_file.close()

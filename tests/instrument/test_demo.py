@@ -22,8 +22,20 @@ def demo_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, str]:
     with contextlib.redirect_stdout(text), contextlib.redirect_stderr(progress):
         code = main(["demo", "--seconds", "1.5", "--out", str(out)])
     assert code == 0, text.getvalue()[-3000:] + progress.getvalue()[-2000:]
-    (out / "stdout.txt").write_text(text.getvalue())  # the results alone, for the tests that read them
-    return out, text.getvalue() + progress.getvalue()
+    (out / "stdout.txt").write_text(text.getvalue())  # the story alone, for the tests that read it
+    # the story on stdout, every detail in the report file, progress and this host's measurements on stderr
+    return out, text.getvalue() + progress.getvalue() + (out / "demo_report.txt").read_text()
+
+
+def test_the_demo_tells_a_short_story_with_its_figures(demo_run: tuple[Path, str]) -> None:
+    out, _ = demo_run
+    story = (out / "stdout.txt").read_text().splitlines()
+    assert len(story) <= 80
+    assert [ln[:5] for ln in story if ln.startswith("[")] == [f"[{k}/8]" for k in range(1, 9)]
+    text = "\n".join(story)
+    for figure in ("torque_angle.png", "pmp_fit.png", "pmp_parameters.png", "demo_report.txt"):
+        assert figure in text
+    assert "holds it" not in text and "IPOPT" not in text  # the detail is in the report file
 
 
 @pytest.mark.timeout(900)
@@ -41,7 +53,7 @@ def test_demo_streams_every_device(demo_run: tuple[Path, str]) -> None:
     assert sum(r["crc_errors"] for r in drill.values()) > 0
     assert "Fault drill" in printed
     # stdout holds what the seeds determine; this host's rates, counts and latencies go to stderr
-    results = (tmp_path / "stdout.txt").read_text()
+    results = (tmp_path / "stdout.txt").read_text() + (tmp_path / "demo_report.txt").read_text()
     assert "rate Hz" not in results and "e-stop reached the dynamometer in" not in results
     assert "rate Hz" in printed and "every sample arrived" in results
 
