@@ -104,8 +104,38 @@ def read_c3d(path: str | Path, *, plate: int = 0, require_plate: bool = True) ->
     corners = pf["corners"].T * p_scale
     meta = {"plate_corners_m": corners.tolist(), "plate_origin_m": (pf["origin"] * p_scale).tolist(),
             "marker_rate_hz": rate, "analog_rate_hz": analog_rate, "aads_factors": _aads_factors(params)}
+    _check_plausible(path, markers, labels, rate, force_on_plate)
     return MotionTrial(marker_t, markers, labels, plate_t, -force_on_plate, cop, -np.where(low, 0.0, tz),
                        str(path), meta)
+
+
+#: what no motion-capture volume or force plate records: a coordinate farther than this from the origin (m),
+#: a marker moving faster than this between frames (m/s), a force larger than this (N). C3D carries no
+#: checksum; a damaged float's exponent shows as such a value, and the file is refused rather than analysed
+PLAUSIBLE_COORDINATE_M, PLAUSIBLE_MARKER_SPEED_M_S, PLAUSIBLE_FORCE_N = 20.0, 30.0, 50_000.0
+
+
+def _check_plausible(path: Path, markers: np.ndarray, labels: list[str], rate_hz: float, force_n: np.ndarray) -> None:
+    """Refuse data no lab can have recorded (a corrupted file): names the marker or channel and the frame."""
+    with np.errstate(invalid="ignore"):
+        far = np.abs(markers) > PLAUSIBLE_COORDINATE_M
+        if far.any():
+            frame, marker, _ = np.argwhere(far)[0]
+            distance = float(np.nanmax(np.abs(markers[frame, marker])))
+            raise DataFileError(path, f"corrupt data: marker {labels[marker]} at {distance:.3g} m from the origin in "
+                                      f"frame {frame}")
+        if markers.shape[0] > 1:
+            speed = np.linalg.norm(np.diff(markers, axis=0), axis=2) * rate_hz
+            fast = speed > PLAUSIBLE_MARKER_SPEED_M_S
+            if fast.any():
+                frame, marker = np.argwhere(fast)[0]
+                raise DataFileError(path, f"corrupt data: marker {labels[marker]} jumps {speed[frame, marker] / rate_hz:.3g} m "
+                                          f"between frames {frame} and {frame + 1}")
+        big = ~(np.abs(force_n) <= PLAUSIBLE_FORCE_N) & np.isfinite(force_n) | np.isinf(force_n)
+        if big.any():
+            sample = int(np.argwhere(big)[0][0])
+            raise DataFileError(path, f"corrupt data: a force of {np.max(np.abs(force_n[sample])):.3g} N at analog sample "
+                                      f"{sample}")
 
 
 #: the AADS factors a C3D file carries (parameter group ``AADS``), so a re-analysis needs no flags

@@ -52,6 +52,15 @@ def test_c3d_bad_inputs(tmp_path: Path) -> None:
     (tmp_path / "cut.c3d").write_bytes(good.read_bytes()[:1500])
     with pytest.raises(DataFileError, match="cut.c3d"):
         read_c3d(tmp_path / "cut.c3d")
+    # a damaged float (its exponent byte flipped) in the marker data: refused, not analysed (C3D has no checksum)
+    import struct
+
+    raw = bytearray(good.read_bytes())
+    data_start = (struct.unpack_from("<H", raw, 16)[0] - 1) * 512  # header word 9: the data's first block
+    raw[data_start + 10 * (len(synthetic_motion().marker_labels) * 16 + 6 * 10 * 4) + 3] ^= 0x7F
+    (tmp_path / "flipped.c3d").write_bytes(bytes(raw))
+    with pytest.raises(DataFileError, match="flipped.c3d: corrupt data: marker"):
+        read_c3d(tmp_path / "flipped.c3d")
     blob = good.read_bytes()  # half a file reads as a shorter, plausible trial unless the header is checked
     (tmp_path / "half.c3d").write_bytes(blob[:len(blob) // 2])
     with pytest.raises(DataFileError, match="truncated: the header declares"):
