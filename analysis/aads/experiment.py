@@ -156,8 +156,7 @@ def write_report(experiment: AadsExperiment, out_dir: str | Path,
             order = np.argsort(theory.angle_deg)
             ax.plot(theory.angle_deg[order], theory.torque_nm[order], "--", color="0.45", lw=1.0, zorder=2,
                     label="theory (eqs 2.1–2.9)")
-        fits = [r.stiffness.fits.get(r.stiffness.reported_branch) for r in mine]
-        fits = [f for f in fits if f is not None]
+        fits = [f for r in mine if (f := r.stiffness.fits.get(r.stiffness.reported_branch)) is not None]
         k = np.array([f.slope_nm_per_deg for f in fits])
         if fits:
             x = np.array(window_deg, dtype=float)
