@@ -115,6 +115,7 @@ class CanopenDynamometer(Dynamometer):
         self.status_time_s = float("-inf")
         self.drive_identity: dict[str, int] = {}
         self.drive_limits: dict[str, float] = {}
+        self._quick_stop_sent = False
         self._sdo_lock = threading.Lock()
         self._samples: queue.SimpleQueue[tuple[int, int, int, int, int]] = queue.SimpleQueue()
         self._pending: dict[int, dict[int, dict[int, int]]] = {}
@@ -407,18 +408,37 @@ class CanopenDynamometer(Dynamometer):
                                       f"{math.degrees(target_rad):.2f}° (no host heartbeat at the drive?)")
 
     def halt(self) -> None:
-        """Halt on the quick-stop ramp and hold (only from OPERATION ENABLED: a latched or unpowered drive
-        already holds, and a halt word must never re-enable it)."""
-        if self._read_status() == PowerState.OPERATION_ENABLED:
-            self._controlword(c.CW_ENABLE_OPERATION | c.CW_HALT)
+        """Halt on the quick-stop ramp and hold, only from OPERATION ENABLED (a latched or unpowered drive
+        already holds, and a halt word must never re-enable it).
+
+        Normally the latest statusword (at most a few telemetry periods old) decides and the halt word goes
+        out on RPDO1 at once, then an SDO read of 0x6040 confirms the drive took it. After an
+        :meth:`emergency_stop` (until :meth:`reset`) the state is read by SDO first: CAN keeps the order of
+        frames, so that read shows a quick stop that arrived, and the halt is sent only when it did not
+        (the runner's fallback when the e-stop is never confirmed).
+
+        :raises DeviceTimeoutError: the drive did not take the halt word (the caller sends the e-stop).
+        """
+        fresh = monotonic_s() - self.status_time_s < 3 * self.telemetry_period_s
+        state = c.state_of(self.statusword) if fresh and not self._quick_stop_sent else self._read_status()
+        if state != PowerState.OPERATION_ENABLED:
+            return
+        word = c.CW_ENABLE_OPERATION | c.CW_HALT
+        self._send_rpdo(word)
+        if self._read(c.CONTROLWORD) != word:
+            raise DeviceTimeoutError(f"{self.name}: the drive did not take the halt word (0x6040 reads otherwise)")
+
+    def _send_rpdo(self, word: int) -> None:
+        if self.network is None:
+            raise DeviceInitializationError(f"{self.name}: not open")
+        with error_check(f"{self.name}: CAN send failed"):
+            self.network.send_message(0x200 + self.node_id, struct.pack("<H", word))
 
     def emergency_stop(self) -> float:
         """A quick-stop controlword on RPDO1, no answer awaited; returns the host time it left."""
-        if self.network is None:
-            raise DeviceInitializationError(f"{self.name}: not open")
+        self._quick_stop_sent = True  # from now on a halt reads the drive's state first, until reset()
         sent = monotonic_s()
-        with error_check(f"{self.name}: CAN send failed"):
-            self.network.send_message(0x200 + self.node_id, struct.pack("<H", c.CW_QUICK_STOP))
+        self._send_rpdo(c.CW_QUICK_STOP)
         return sent
 
     def stop_latched_since(self, since_s: float) -> bool:
@@ -432,6 +452,7 @@ class CanopenDynamometer(Dynamometer):
     def reset(self) -> None:
         """Leave a quick stop or a fault: disable voltage, a fault-reset edge; the drive ends SWITCH ON DISABLED."""
         self._controlword(c.CW_DISABLE_VOLTAGE)
+        self._quick_stop_sent = False
         if self._read_status() == PowerState.FAULT:
             self._controlword(c.CW_FAULT_RESET)
             self._controlword(c.CW_DISABLE_VOLTAGE)

@@ -182,6 +182,8 @@ class Cia402DriveSimulator:
             return
         with self._lock:
             self._controlword(word)
+            # the RPDO's object: an SDO read of 0x6040 shows the last word (stored as-is, not a second command)
+            self.node.data_store.setdefault(c.CONTROLWORD, {})[0] = self._variable(c.CONTROLWORD, 0).encode_raw(word)
             self._publish()
 
     def _on_write(self, index: int, subindex: int, od: Any, data: bytes) -> None:
