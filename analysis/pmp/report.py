@@ -318,7 +318,7 @@ def to_json(report: PmpReport) -> dict[str, Any]:
 
 def _parameter_figure(report: PmpReport) -> Any:
     """Figures 3.15–3.17 side by side: slack length per shank length, tendon stiffness (kN/m) and
-    muscle stiffness (N/m). The generic model's value (orange outline) beside the fit: a determined
+    muscle stiffness (kN/m). The generic model's value (orange outline) beside the fit: a determined
     parameter blue with its 95 % interval, an undetermined one a grey, hatched bar (the fit's value, not a
     measurement). Each panel on a log scale when its values span more than a decade."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -346,12 +346,14 @@ def _parameter_figure(report: PmpReport) -> Any:
     for ax, (key, unit, title) in zip(axes, (("slack_per_shank", "slack length / shank length",
                                               "tendon slack length (Fig. 3.15)"),
                                              ("tendon_kN_per_m", "kN/m", "tendon stiffness (Fig. 3.16)"),
-                                             ("muscle_N_per_m", "N/m", "muscle stiffness (Fig. 3.17)"))):
+                                             ("muscle_N_per_m", "kN/m", "muscle stiffness (Fig. 3.17)"))):
         muscles = list(fitted[key])
         x = np.arange(len(muscles))
         ok = [f"{m}.{FIGURE_QUANTITIES[key]}" in det for m in muscles]
-        values = [fitted[key][m] for m in muscles]
-        ax.bar(x - 0.2, [generic[key][m] for m in muscles], 0.4, facecolor="none", edgecolor="C1", lw=1.5)
+        unit_scale = 1e-3 if key == "muscle_N_per_m" else 1.0  # muscle stiffness in kN/m, as the tendons'
+        values = [unit_scale * fitted[key][m] for m in muscles]
+        bounds[key] = {m: (unit_scale * lo, unit_scale * hi) for m, (lo, hi) in bounds[key].items()}
+        ax.bar(x - 0.2, [unit_scale * generic[key][m] for m in muscles], 0.4, facecolor="none", edgecolor="C1", lw=1.5)
         ax.bar(x + 0.2, values, 0.4, color=["C0" if o else "0.8" for o in ok],
                hatch=None, edgecolor=["C0" if o else "0.5" for o in ok])
         for i, (m, o) in enumerate(zip(muscles, ok)):
@@ -360,7 +362,7 @@ def _parameter_figure(report: PmpReport) -> Any:
             elif m in bounds[key]:
                 lo, hi = bounds[key][m]
                 ax.errorbar(x[i] + 0.2, values[i], yerr=[[values[i] - lo], [hi - values[i]]], color="k", capsize=3)
-        spread = [v for v in values + [generic[key][m] for m in muscles] if v > 0]
+        spread = [v for v in values + [unit_scale * generic[key][m] for m in muscles] if v > 0]
         if spread and max(spread) / min(spread) > 10:
             ax.set_yscale("log")
         ax.set_xticks(x, muscles, rotation=60, fontsize=8)
