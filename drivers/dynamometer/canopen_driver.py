@@ -9,7 +9,7 @@ URL ``canopen://<python-can interface>/<channel>?node=16&rate=100[&bitrate=10000
 At open the driver waits for the drive's heartbeat, checks that it is a CiA 402 device (0x1000),
 and configures by SDO, reading every value back and refusing to open when one differs: the software
 position limits (0x607D), max torque (0x6072, per mille of the rated torque 0x6076), max profile velocity
-(0x607F), quick stop "ramp and stay in QUICK STOP ACTIVE" (0x605A = 6), halt on the quick-stop ramp
+(0x607F), quick stop "ramp, then SWITCH ON DISABLED" (0x605A = 2), halt on the quick-stop ramp
 (0x605D = 2), the drive's heartbeat (0x1017), its consumer watching the host (0x1016, the watchdog)
 and the TPDO event timers (0x1800/0x1801 sub 5) for the sample rate. The TPDO mapping is read from the
 drive and must match its EDS. Then the host heartbeat starts and NMT goes OPERATIONAL.
@@ -60,10 +60,11 @@ RATES_HZ = (100, 125, 200, 250, 500, 1000)
 STATE_TIMEOUT_S = 0.5
 
 
-def summary_state(statusword: int, velocity_counts: int) -> p.State:
-    """The drive's state in the frame-set's words (the recording's one state channel)."""
+def summary_state(statusword: int, velocity_counts: int, quick_stopped: bool = False) -> p.State:
+    """The drive's state in the frame-set's words (the recording's one state channel); ``quick_stopped``:
+    the host sent a quick stop since the last reset (SWITCH ON DISABLED is then the e-stop's end)."""
     power = c.state_of(statusword)
-    if power == PowerState.QUICK_STOP_ACTIVE:
+    if power == PowerState.QUICK_STOP_ACTIVE or (quick_stopped and power == PowerState.SWITCH_ON_DISABLED):
         return p.State.ESTOP
     if power in (PowerState.FAULT, PowerState.FAULT_REACTION_ACTIVE):
         return p.State.FAULT
@@ -179,7 +180,7 @@ class CanopenDynamometer(Dynamometer):
         settings = [
             (c.PRODUCER_HEARTBEAT, 0, round(1000 * c.DRIVE_HEARTBEAT_S)),
             (c.CONSUMER_HEARTBEAT, 1, c.HOST_NODE_ID << 16 | round(1000 * c.HEARTBEAT_CONSUMER_S)),
-            (c.QUICK_STOP_OPTION, 0, c.QUICK_STOP_STAY_ACTIVE),
+            (c.QUICK_STOP_OPTION, 0, c.QUICK_STOP_THEN_DISABLE),
             (c.HALT_OPTION, 0, c.HALT_ON_QUICK_STOP_RAMP),
             (c.SOFTWARE_POSITION_LIMIT, 1, self._position_counts(self.limits.rom_min_rad)),
             (c.SOFTWARE_POSITION_LIMIT, 2, self._position_counts(self.limits.rom_max_rad)),
@@ -291,6 +292,8 @@ class CanopenDynamometer(Dynamometer):
 
     def _enable(self) -> None:
         """Walk the state machine to OPERATION ENABLED (refused from a latched stop: :meth:`reset` first)."""
+        if self._quick_stop_sent:
+            raise CommandRefusedError(f"{self.name}: an emergency stop was sent; reset the dynamometer first")
         state = self._read_status()
         if state in c.LATCHED:
             code = self._read(c.ERROR_CODE)
@@ -365,7 +368,8 @@ class CanopenDynamometer(Dynamometer):
                 break
         data = np.array(rows, dtype=np.int64)
         counters = np.array([self._unwrap.unwrap(int(k)) for k in data[:, 0]], dtype=np.int64)
-        states = [int(summary_state(int(sw), int(v))) for v, sw in zip(data[:, 2], data[:, 4], strict=True)]
+        stopped = self._quick_stop_sent
+        states = [int(summary_state(int(sw), int(v), stopped)) for v, sw in zip(data[:, 2], data[:, 4], strict=True)]
         return DynamometerBlock(
             device=self.name, counter=counters, time_s=self._clock.stamp(counters, arrival),
             torque_nm=data[:, 3] * (self.rated_torque_nm / 1000.0),
@@ -442,8 +446,10 @@ class CanopenDynamometer(Dynamometer):
         return sent
 
     def stop_latched_since(self, since_s: float) -> bool:
-        """True once a statusword that arrived after host time ``since_s`` shows QUICK STOP ACTIVE or a fault."""
-        return self.status_time_s >= since_s and c.state_of(self.statusword) in c.LATCHED
+        """True once a statusword that arrived after host time ``since_s`` shows QUICK STOP ACTIVE, a fault, or
+        (after a quick stop was sent) SWITCH ON DISABLED, where the quick stop ends."""
+        latched = c.STOPPED_AFTER_QUICK_STOP if self._quick_stop_sent else c.LATCHED
+        return self.status_time_s >= since_s and c.state_of(self.statusword) in latched
 
     @property
     def telemetry_period_s(self) -> float:

@@ -47,9 +47,12 @@ TARGET_POSITION, SOFTWARE_POSITION_LIMIT, MAX_PROFILE_VELOCITY, TARGET_VELOCITY 
 PROFILE_VELOCITY, PROFILE_ACCELERATION, PROFILE_DECELERATION, QUICK_STOP_DECELERATION = 0x6081, 0x6083, 0x6084, 0x6085
 CIA402_PROFILE = 0x0192
 
-#: quick stop: decelerate on the quick-stop ramp and stay in QUICK STOP ACTIVE (latched until the host
-#: disables the voltage and re-enables); halt: decelerate on the quick-stop ramp too
-QUICK_STOP_STAY_ACTIVE = 6
+#: quick stop: decelerate on the quick-stop ramp, then SWITCH ON DISABLED (option 2). Not "stay in QUICK STOP
+#: ACTIVE" (5–8): from there an enable-operation word (transition 16) re-enables the drive, and a host's
+#: command sequence in flight when the e-stop arrives (a move's set-point words) would do exactly that.
+#: From SWITCH ON DISABLED only the full shutdown → switch on → enable walk moves the arm, which the
+#: driver refuses after an e-stop until reset. Halt: decelerate on the quick-stop ramp too
+QUICK_STOP_THEN_DISABLE = 2
 HALT_ON_QUICK_STOP_RAMP = 2
 
 #: EMCY error codes (CiA 301 / 402)
@@ -99,6 +102,8 @@ CW_FAULT_RESET, CW_NEW_SETPOINT, CW_CHANGE_IMMEDIATELY, CW_HALT = 0x80, 0x10, 0x
 
 #: states in which the arm is stopped and stays stopped until the host re-enables it
 LATCHED = (PowerState.QUICK_STOP_ACTIVE, PowerState.FAULT_REACTION_ACTIVE, PowerState.FAULT)
+#: after a quick stop: those, or SWITCH ON DISABLED where the quick stop (option 2) ends
+STOPPED_AFTER_QUICK_STOP = (*LATCHED, PowerState.SWITCH_ON_DISABLED)
 
 
 def state_of(statusword: int) -> PowerState:

@@ -84,6 +84,8 @@ class Cia402DriveSimulator:
         self.target_deg: float | None = None
         self.velocity_target_deg_s: float | None = None
         self.halted = False
+        #: a quick stop brought the drive here (SWITCH ON DISABLED reads as the e-stop until a shutdown word)
+        self.quick_stopped = False
         self.setpoint_ack = False
         self.internal_limit = False
         self._last_controlword = 0
@@ -137,6 +139,8 @@ class Cia402DriveSimulator:
         """The state in the frame-set's words (IDLE, MOVING, HOLDING, ESTOP, FAULT)."""
         if self.power in SUMMARY:
             return SUMMARY[self.power]
+        if self.power == PowerState.SWITCH_ON_DISABLED and self.quick_stopped:
+            return p.State.ESTOP  # the quick stop's end (option 2), until the host walks the machine again
         if self.power == PowerState.OPERATION_ENABLED:
             moving = self.target_deg is not None or self.velocity_target_deg_s is not None or self.velocity_deg_s != 0
             return p.State.MOVING if moving else p.State.HOLDING
@@ -232,6 +236,7 @@ class Cia402DriveSimulator:
         if self._is_quick_stop(word):
             if s == PowerState.OPERATION_ENABLED:
                 self.power = PowerState.QUICK_STOP_ACTIVE  # 11
+                self.quick_stopped = True
                 self._brake("quick stop")
             elif s in (PowerState.READY_TO_SWITCH_ON, PowerState.SWITCHED_ON):
                 self.power = PowerState.SWITCH_ON_DISABLED  # 7, 10
@@ -242,6 +247,7 @@ class Cia402DriveSimulator:
                 if s == PowerState.OPERATION_ENABLED:
                     self._stop_motion()
                 self.power = PowerState.READY_TO_SWITCH_ON  # 2, 6, 8
+                self.quick_stopped = False
         elif command == c.CW_SWITCH_ON:
             if s == PowerState.READY_TO_SWITCH_ON:
                 self.power = PowerState.SWITCHED_ON  # 3
@@ -345,6 +351,9 @@ class Cia402DriveSimulator:
                 self.position_deg += step
         if self.power == PowerState.FAULT_REACTION_ACTIVE and self.velocity_deg_s == 0.0:
             self.power = PowerState.FAULT  # 14
+        if (self.power == PowerState.QUICK_STOP_ACTIVE and self.velocity_deg_s == 0.0
+                and self._get(c.QUICK_STOP_OPTION) in (1, 2, 3, 4)):
+            self.power = PowerState.SWITCH_ON_DISABLED  # 12: the ramp done, the drive disabled
         self.acceleration = (self.velocity_deg_s - v_old) / dt if dt > 0 else 0.0
 
     def torque_nm(self) -> float:

@@ -19,6 +19,7 @@ from drivers.dynamometer import cia402 as c
 from drivers.dynamometer.canopen_driver import CanopenDynamometer
 from drivers.dynamometer.cia402 import PowerState
 from drivers.dynamometer.cia402_simulator import Cia402DriveSimulator
+from drivers.dynamometer.protocol import State
 from drivers.errors import CommandRefusedError, DeviceNotAvailableError, LimitViolationError
 from drivers.simulation.faults import FaultConfig
 
@@ -94,8 +95,8 @@ def test_open_configures_by_sdo_and_the_frames_are_the_profile_s(rig: Rig) -> No
     sim, dyno, tap = rig
     frames = _frames(tap)
     sdo = [bytes(m.data) for m in frames if m.arbitration_id == 0x600 + NODE]
-    # expedited downloads: quick stop "ramp and stay" (0x605A = 6, 2 bytes), halt on the quick-stop ramp
-    assert bytes([0x2B, 0x5A, 0x60, 0x00, 0x06, 0x00, 0x00, 0x00]) in sdo
+    # expedited downloads: quick stop "ramp, then disabled" (0x605A = 2, 2 bytes), halt on the quick-stop ramp
+    assert bytes([0x2B, 0x5A, 0x60, 0x00, 0x02, 0x00, 0x00, 0x00]) in sdo
     assert bytes([0x2B, 0x5D, 0x60, 0x00, 0x02, 0x00, 0x00, 0x00]) in sdo
     # the consumer heartbeat watches the host (node 0x7F, 500 ms), 4 bytes to 0x1016 sub 1
     assert bytes([0x23, 0x16, 0x10, 0x01]) + struct.pack("<I", 0x7F << 16 | 500) in sdo
@@ -170,18 +171,22 @@ def _moving(sim: Cia402DriveSimulator, dyno: CanopenDynamometer) -> None:
     assert _wait(lambda: sim.position_deg > 3.0)
 
 
-def test_emergency_stop_latches_quick_stop_active_until_reset(rig: Rig) -> None:
+def test_emergency_stop_latches_until_reset(rig: Rig) -> None:
     sim, dyno, tap = rig
     _moving(sim, dyno)
     sent = dyno.emergency_stop()
     assert _wait(lambda: dyno.stop_latched_since(sent))
-    assert sim.power == PowerState.QUICK_STOP_ACTIVE and sim.velocity_deg_s == 0.0
-    with pytest.raises(CommandRefusedError, match="QUICK STOP ACTIVE"):
+    assert _wait(lambda: sim.power == PowerState.SWITCH_ON_DISABLED)  # the ramp done, the drive disabled
+    assert sim.state == State.ESTOP and sim.velocity_deg_s == 0.0
+    with pytest.raises(CommandRefusedError, match="emergency stop was sent"):
         dyno.move_to(math.radians(30.0))
-    dyno.halt()  # a halt word never re-enables a latched drive
-    assert sim.power == PowerState.QUICK_STOP_ACTIVE
+    dyno.halt()  # a halt word never re-enables a stopped drive
+    sim._controlword(c.CW_ENABLE_OPERATION | c.CW_CHANGE_IMMEDIATELY)  # a move's word in flight: no effect
+    assert sim.power == PowerState.SWITCH_ON_DISABLED and sim.state == State.ESTOP
     dyno.reset()
     assert sim.power == PowerState.SWITCH_ON_DISABLED
+    dyno.move_to(math.radians(8.0))  # after the reset the host walks the state machine again
+    assert _wait(lambda: sim.power == PowerState.OPERATION_ENABLED and sim.state != State.ESTOP)
 
 
 def test_a_lost_quick_stop_frame_is_not_confirmed_and_a_second_one_is(rig: Rig) -> None:
