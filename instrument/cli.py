@@ -405,14 +405,14 @@ def cmd_import_xdf(args: argparse.Namespace) -> int:
 
     kind = kinds.get(args.protocol)
     proto = kind.protocol(**{p.name: getattr(args, p.dest) for p in kind.parameters if getattr(args, p.dest) is not None})
-    read_xdf(args.file)  # refused before the store is touched
+    devices = read_xdf(args.file)  # refused before the store is touched; read once
     with _store(args.store) as store:
         try:
             store.subject(args.subject)
         except KeyError:
             store.add_subject(Subject(args.subject))
         session = store.new_session(args.subject, args.operator, notes=f"imported from {args.file.name}")
-        trial_id = import_xdf(args.file, store, session, proto, operator=args.operator)
+        trial_id = import_xdf(args.file, store, session, proto, operator=args.operator, devices=devices)
         trial = store.trial(trial_id)
     counts = ", ".join(f"{n}: {c['samples']} samples, {c['lost_samples']} lost" for n, c in trial.devices.items())
     print(f"trial {trial_id} ({proto.name}, {proto.condition_text() or 'default settings'}) imported from "

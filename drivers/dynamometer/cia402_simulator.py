@@ -383,7 +383,7 @@ class Cia402DriveSimulator:
         self._set(c.TORQUE_ACTUAL, int(np.clip(round(1000.0 * tau / rated_nm), -32768, 32767)))
         self._publish()
         f = self.faults
-        if self.node.nmt.state != "OPERATIONAL" or f.silent_at(t_stream) or self._vanished(t_stream):
+        if self.node.nmt.state != "OPERATIONAL" or f.silent_at(t_stream) or self.faults.vanished_at(t_stream):
             return
         if f.drop_rate and self.rng.random() < f.drop_rate:
             return
@@ -400,10 +400,6 @@ class Cia402DriveSimulator:
         for cob, data in zip((c.TPDO1_COMM, c.TPDO2_COMM), frames, strict=True):
             self.network.send_message(self._get(cob, 1) & 0x7FF, data)
         self.sent += 1
-
-    def _vanished(self, t_stream: float) -> bool:
-        d = self.faults.disconnect_after_s
-        return d is not None and d <= t_stream < d + self.faults.reconnect_after_s
 
     def _run(self) -> None:
         next_tick = time.monotonic()

@@ -247,7 +247,7 @@ class DynamometerSimulator:
         tau = self.torque_nm()
         if self.state not in (p.State.ESTOP, p.State.FAULT) and abs(tau) > self.torque_limit_nm:
             self._latch(p.State.FAULT, p.Fault.TORQUE_LIMIT, f"torque {tau:.1f} N·m over limit")
-        if c.silent_at(t_stream) or self._vanished(t_stream):
+        if c.silent_at(t_stream) or self.faults.vanished_at(t_stream):
             return
         if c.drop_rate and self.rng.random() < c.drop_rate:
             return
@@ -262,10 +262,6 @@ class DynamometerSimulator:
         self._send(self.ids["telemetry"], data)
         self.sent += 1
 
-    def _vanished(self, t_stream: float) -> bool:
-        d = self.faults.disconnect_after_s
-        return d is not None and d <= t_stream < d + self.faults.reconnect_after_s
-
     def _run(self) -> None:
         next_tick = time.monotonic()
         next_status = next_tick
@@ -276,7 +272,7 @@ class DynamometerSimulator:
                 msg = self.bus.recv(timeout=0)
                 if msg is None:
                     break
-                if not self._vanished(now - self._t0):
+                if not self.faults.vanished_at(now - self._t0):
                     self._handle(msg, now)
             while next_tick <= now:
                 self._step(next_tick - last, next_tick)
@@ -285,10 +281,10 @@ class DynamometerSimulator:
                 next_tick += 1.0 / self.rate_hz
             if now >= next_status or self.state != self._status_sent_state:
                 next_status = now + 0.1
-                if not (self.faults.silent_at(now - self._t0) or self._vanished(now - self._t0)):
+                if not (self.faults.silent_at(now - self._t0) or self.faults.vanished_at(now - self._t0)):
                     self._status_sent_state = self.state
                     self._send(self.ids["status"], p.Status(self.state, self.mode, self.fault, self.rate_hz,
                                                             self.torque_limit_nm).encode())
             msg = self.bus.recv(timeout=max(0.0, min(next_tick, next_status) - time.monotonic()))
-            if msg is not None and not self._vanished(time.monotonic() - self._t0):
+            if msg is not None and not self.faults.vanished_at(time.monotonic() - self._t0):
                 self._handle(msg, time.monotonic())

@@ -35,6 +35,11 @@ class FaultConfig:
     def as_dict(self) -> dict[str, object]:
         return asdict(self)
 
+    def vanished_at(self, t_stream: float) -> bool:
+        """True while the device is disconnected (``disconnect_after_s`` … + ``reconnect_after_s``)."""
+        d = self.disconnect_after_s
+        return d is not None and d <= t_stream < d + self.reconnect_after_s
+
     def silent_at(self, t_s: float) -> bool:
         """True while the scheduled silence is on at stream time ``t_s``."""
         return self.silence_after_s is not None and self.silence_after_s <= t_s < self.silence_after_s + self.silence_for_s

@@ -153,13 +153,14 @@ def read_xdf(path: str | Path) -> dict[str, tuple[DeviceSpec, dict[str, np.ndarr
 
 
 def import_xdf(path: str | Path, store: SessionStore, session_id: int, protocol: TrialProtocol, *,
-               operator: str | None = None) -> int:
+               operator: str | None = None,
+               devices: dict[str, tuple[DeviceSpec, dict[str, np.ndarray]]] | None = None) -> int:
     """One XDF file as a trial of ``protocol`` in ``store`` (session ``session_id``); returns the trial id.
 
     :raises XdfImportError: see :func:`read_xdf`, or a device the trial kind needs is not in the file.
     """
     p = Path(path)
-    devices = read_xdf(p)
+    devices = read_xdf(p) if devices is None else devices  # the caller's reading, when it checked the file first
     missing = [d for d in protocol.devices if d not in devices]
     if missing:
         raise XdfImportError(p, f"no {', '.join(missing)} stream (instrument-{missing[0]}): a {protocol.name} trial "
