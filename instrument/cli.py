@@ -360,6 +360,22 @@ def _store(path: Path | None, read_only: bool = False, reading: bool = False) ->
     return store
 
 
+def _protocol_from(args: argparse.Namespace) -> kinds.TrialProtocol:
+    """The trial protocol the command line's options describe (unset options: the kind's defaults)."""
+    kind = kinds.get(args.protocol)
+    return kind.protocol(**{p.name: getattr(args, p.dest) for p in kind.parameters if getattr(args, p.dest) is not None})
+
+
+def _new_session(store: SessionStore, args: argparse.Namespace, notes: str, new_subject: Subject | None = None) -> int:
+    """A new session of ``args.subject`` by ``args.operator``; a subject the store does not know is added
+    (as ``new_subject``, or with its code only)."""
+    try:
+        store.subject(args.subject)
+    except KeyError:
+        store.add_subject(new_subject or Subject(args.subject))
+    return store.new_session(args.subject, args.operator, notes=notes)
+
+
 def cmd_record(args: argparse.Namespace) -> int:
     from .live.session import record_trial
     from .sim.simulate import lab_config_for, simulated_devices, simulation_metadata
@@ -367,17 +383,12 @@ def cmd_record(args: argparse.Namespace) -> int:
         print("instrument record: give --simulate (the simulated lab) or --lab LAB.toml (the lab's devices)",
               file=sys.stderr)
         return 2
-    kind = kinds.get(args.protocol)
-    proto = kind.protocol(**{p.name: getattr(args, p.dest) for p in kind.parameters
-                             if getattr(args, p.dest) is not None})
+    proto = _protocol_from(args)
     if args.lab is not None:
         return _record_on_lab(args, proto)
     with _store(args.store) as store:
-        try:
-            store.subject(args.subject)
-        except KeyError:
-            store.add_subject(Subject(args.subject, "unknown", 1.78, 75.0, shank_length_m=0.40, foot_length_m=0.26))
-        session = store.new_session(args.subject, args.operator, notes="simulated")
+        session = _new_session(store, args, "simulated",
+                               Subject(args.subject, "unknown", 1.78, 75.0, shank_length_m=0.40, foot_length_m=0.26))
         print(f"store {store.root}, subject {args.subject}, session {session}")
         print(f"recording {proto.name}, {proto.condition_text() or 'default settings'} "
               f"(about {proto.expected_duration_s():.0f} s) ...")
@@ -403,15 +414,10 @@ def cmd_simulate_lab(args: argparse.Namespace) -> int:
 def cmd_import_xdf(args: argparse.Namespace) -> int:
     from .offline.xdf import import_xdf, read_xdf
 
-    kind = kinds.get(args.protocol)
-    proto = kind.protocol(**{p.name: getattr(args, p.dest) for p in kind.parameters if getattr(args, p.dest) is not None})
+    proto = _protocol_from(args)
     devices = read_xdf(args.file)  # refused before the store is touched; read once
     with _store(args.store) as store:
-        try:
-            store.subject(args.subject)
-        except KeyError:
-            store.add_subject(Subject(args.subject))
-        session = store.new_session(args.subject, args.operator, notes=f"imported from {args.file.name}")
+        session = _new_session(store, args, f"imported from {args.file.name}")
         trial_id = import_xdf(args.file, store, session, proto, operator=args.operator, devices=devices)
         trial = store.trial(trial_id)
     counts = ", ".join(f"{n}: {c['samples']} samples, {c['lost_samples']} lost" for n, c in trial.devices.items())
@@ -438,11 +444,7 @@ def _record_on_lab(args: argparse.Namespace, proto: kinds.TrialProtocol) -> int:
         print("error: not recording: " + "; ".join(f"{p.kind} {p.problem}" for p in silent), file=sys.stderr)
         return 1
     with _store(args.store) as store:
-        try:
-            store.subject(args.subject)
-        except KeyError:
-            store.add_subject(Subject(args.subject))
-        session = store.new_session(args.subject, args.operator, notes=f"lab file {args.lab}")
+        session = _new_session(store, args, f"lab file {args.lab}")
         print(f"recording {proto.name} {proto.condition_text()} on {args.lab} (about {proto.expected_duration_s():.0f} s; "
               "Ctrl-C halts the arm and keeps the data) ...")
         with source.devices(proto) as devices:

@@ -75,6 +75,16 @@ class Identifiability:
         return dataclasses.asdict(self)
 
 
+#: a parameter within this fraction of a bound is at the bound
+AT_BOUND_REL = 1e-3
+
+
+def parameters_at_bound(result: PmpResult, names: list[str]) -> list[str]:
+    """The parameters among ``names`` that a fit left at (within :data:`AT_BOUND_REL` of) a bound."""
+    return [n for n in names if result.parameters[n] <= result.lower[n] * (1 + AT_BOUND_REL)
+            or result.parameters[n] >= result.upper[n] * (1 - AT_BOUND_REL)]
+
+
 def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None = None,
                     rel_se_limit: float = 0.035, stride: int = 1, misfit_limit: float = MISFIT_LIMIT,
                     model_error_nm: float | None = None, extension: Any = None) -> Identifiability:
@@ -234,8 +244,7 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
                        f"{model_error_nm:g} N·m model error the intervals allow for")
     if reasons:
         determined[:] = False
-    at_bound = [n for n in names if result.parameters[n] <= result.lower[n] * (1 + 1e-3)
-                or result.parameters[n] >= result.upper[n] * (1 - 1e-3)]
+    at_bound = parameters_at_bound(result, names)
     mid = {"hip": np.deg2rad(50.0), "knee": np.deg2rad(45.0), "ankle": 0.0}
 
     def signature(m: str) -> tuple:

@@ -483,6 +483,34 @@ def to_json(result: ReplicaResult, truth: dict[str, float] | None = None) -> dic
     return out
 
 
+def summary_table(result: ReplicaResult, truth: dict[str, float] | None = None
+                  ) -> tuple[str, tuple[str, ...], list[tuple[str, ...]]]:
+    """The spring fit for a results view: a headline, column titles and rows (text; k in N/m, rest length
+    in mm). A spring the holds do not determine shows the spread of the equally good fits, marked "?"."""
+    if not result.success:
+        return f"replica fit failed: {result.message}; nothing determined", (), []
+    err = truth_error_pct(result, truth) if truth else {}
+    springs = list(dict.fromkeys(n.split(".")[0] for n in result.parameters))
+    determined = [s for s in springs if f"{s}.stiffness_n_per_m" in result.ci95 and f"{s}.rest_length_m" in result.ci95]
+    head = (f"{len(determined)} of {len(springs)} springs determined; residual {result.residual_rms_nm:.3g} N·m RMS "
+            f"over {result.holds.knee_rad.size} holds")
+    columns = ("spring", "k (N/m)", "k 95 % interval", "rest (mm)", "rest 95 % interval") + \
+        (("error k / rest (%)",) if err else ())
+    rows = []
+    for name in springs:
+        kn, ln = f"{name}.stiffness_n_per_m", f"{name}.rest_length_m"
+        if name in determined:
+            row = (name, f"{result.parameters[kn]:.0f}", "[{:.0f}, {:.0f}]".format(*result.ci95[kn]),
+                   f"{1e3 * result.parameters[ln]:.1f}", "[{:.1f}, {:.1f}]".format(*(1e3 * np.array(result.ci95[ln]))))
+            rows.append(row + ((f"{err[kn]:+.1f} / {err[ln]:+.1f}",) if err else ()))
+        else:
+            spread_k = result.alternatives.get(kn, result.ci95.get(kn, [np.nan, np.nan]))
+            spread_l = 1e3 * np.array(result.alternatives.get(ln, result.ci95.get(ln, [np.nan, np.nan])))
+            rows.append((name, "not determined", "? {:.0f}–{:.0f}".format(*spread_k), "",
+                         "? {:.1f}–{:.1f}".format(*spread_l)) + (("",) if err else ()))
+    return head, columns, rows
+
+
 def text(result: ReplicaResult, truth: dict[str, float] | None = None) -> str:
     """The spring table as the operator reads it (k in N/m, rest length in mm)."""
     if not result.success:

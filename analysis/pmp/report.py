@@ -15,7 +15,7 @@ from ..errors import InputError
 from ..trial_csv import SUBJECT_RANGES, TrialTable
 from .estimator import MEASUREMENT_SD, PmpResult, PmpTrial, Subject, estimate, identifiability
 from .geometry import path_ranges_deg
-from .identifiability import Identifiability
+from .identifiability import Identifiability, parameters_at_bound
 from .muscles import COMPLIANT, LegMuscles, scale_for_subject
 from .stiffness import FIGURE_QUANTITIES, achilles_stiffness_kn_per_m, representative_values
 from .verify import Verification, forward_dynamics
@@ -208,12 +208,14 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
             if progress is not None:
                 progress(f"refit with {extension.name} ...")
             plain_res, plain_idf = res, idf
-            # two starts, the plain fit's parameters and the generic model's: the extension's terms can hold
-            # what the plain fit pushed into the muscles, and from the plain fit's values the refit can stay in
-            # that basin (a demo subject's soleus ε0 went to its bound there, at a cost 2 % above the generic
-            # start's); the lower cost of the converged fits is kept
-            fits = [estimate(trials, subject, leg=leg, intervals=intervals, extension=extension, initial=start)
-                    for start in (plain_res.parameters, None)]
+            # started from the plain fit's parameters; the extension's terms can hold what the plain fit pushed
+            # into the muscles, and from there the refit can stay in that basin (a demo subject's soleus ε0 went
+            # to its bound, at a cost 2 % above the generic start's). So when that refit fails or leaves a
+            # muscle parameter at a bound, it is repeated from the generic model and the lower cost is kept
+            fits = [estimate(trials, subject, leg=leg, intervals=intervals, extension=extension,
+                             initial=plain_res.parameters)]
+            if not fits[0].success or parameters_at_bound(fits[0], list(fits[0].parameters)):
+                fits.append(estimate(trials, subject, leg=leg, intervals=intervals, extension=extension))
             res = min((f for f in fits if f.success), key=lambda f: f.fun, default=fits[0])
             idf = identifiability(res, trials, subject, leg=leg, extension=extension)
             values = [float(res.extension_parameters[n]) for n in extension.parameters]
@@ -301,6 +303,44 @@ def text(report: PmpReport, *, timings: bool = True) -> str:
             lines.append("  trade with the extension (determined by the plain model, not beside it): " + ", ".join(traded)
                          + "; " + PROTOCOL_TO_SEPARATE.get(ext.extension, "another protocol to separate them"))
     return "\n".join(lines)
+
+
+def summary_table(report: PmpReport) -> tuple[str, tuple[str, ...], list[tuple[str, ...]]]:
+    """The fit for a results view: a headline, column titles and rows (text). The determined parameters
+    with their 95 % intervals first, the undetermined counted in one row (their values are the fit's, not
+    measurements), then the determined parameters' stiffnesses and each trial's forward check."""
+    res: PmpResult = report.result
+    idf = report.identifiability
+    det = [n for n in res.parameters if n in idf.determined]
+    if not res.success:
+        head = f"fit did not converge ({res.message}): nothing determined"
+    elif not det:
+        head = "NOTHING DETERMINED" + (f": {idf.not_determined_because[0]}" if idf.not_determined_because else "")
+    else:
+        head = (f"{len(det)} of {len(res.parameters)} parameters determined; residual {idf.misfit_ratio:.1f}× "
+                "the measurement noise")
+    if report.extended is not None:
+        ext = report.extended
+        head += (f"\nmodel extended with {ext.extension}: residual {ext.plain_misfit_ratio:.1f}× → "
+                 f"{ext.misfit_ratio:.1f}× the noise, determined {len(ext.plain_determined)} → {len(ext.determined)}")
+    elif report.model_diagnosis is not None:
+        head += f"\nmodel-level diagnosis: {report.model_diagnosis.message}"
+    columns: tuple[str, ...] = ("quantity", "generic", "estimate", "95 % interval")
+    rows: list[tuple[str, ...]] = [
+        (n, f"{res.generic[n]:.4g}", f"{res.parameters[n]:.4g}", "[{:.4g}, {:.4g}]".format(*idf.ci95[n])) for n in det]
+    rest = [n for n in res.parameters if n not in idf.determined]
+    if rest:
+        at_bound = sum(n in idf.at_bound for n in rest)
+        rows.append((f"not determined: {len(rest)} parameters", "", "",
+                     f"{at_bound} at a bound" if at_bound else "free in these trials"))
+    st = report.stiffness
+    rows += [(f"tendon stiffness {m} (kN/m)", "", f"{k:.0f}", "") for m, k in st["tendon_kN_per_m"].items()]
+    if "achilles_kN_per_m" in st:
+        rows.append(("Achilles stiffness (kN/m)", "", f"{st['achilles_kN_per_m']:.0f}", ""))
+    rows += [(f"muscle stiffness {m} (kN/m)", "", f"{k / 1e3:.2f}", "") for m, k in st["muscle_N_per_m"].items()]
+    rows += [(f"forward dynamics {fd.name}: angle RMSE (°)", "", f"{fd.angle_rmse_deg:.2f}", "")
+             for fd in report.forward_dynamics]
+    return head, columns, rows
 
 
 def to_json(report: PmpReport) -> dict[str, Any]:

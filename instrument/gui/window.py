@@ -20,11 +20,12 @@ from analysis.trial_csv import SUBJECT_RANGES
 
 from .. import kinds
 from ..errors import ProtocolError
-from ..kinds.base import Curves, Parameter, TrialKind, TrialProtocol
+from ..kinds.base import Curves, Parameter, SetAnalysis, TrialKind, TrialProtocol
 from ..live.acquisition import AcquisitionEngine, device_health_text
 from ..live.runner import Checklist, SafetyLimits, TrialRunner, checklist_for
 from ..offline.analyses import analyse_set
 from ..store import SessionStore, Subject
+from .results import ResultsView
 
 REFRESH_HZ = 30.0
 
@@ -52,7 +53,8 @@ class FrameCounter:
 class MainWindow(QtWidgets.QMainWindow):
     """One operator, one subject, one session; trials recorded into ``store`` from ``source``'s devices."""
 
-    analysis_ready = QtCore.Signal(str)
+    analysis_ready = QtCore.Signal(object)  # a SetAnalysis, or the error's text
+    analysis_progress = QtCore.Signal(str)
 
     def __init__(self, store: SessionStore, source: Any, *, subject_code: str = "SIM01", operator: str = "operator-1",
                  limits: SafetyLimits | None = None) -> None:
@@ -75,6 +77,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self.setWindowTitle("AFO & passive-muscle lab instrument" + (" — SIMULATION" if source.simulated else ""))
         self._build()
         self.analysis_ready.connect(self._show_analysis)
+        self.analysis_progress.connect(self.results.progress)
         self.timer = QtCore.QTimer(self)
         self.timer.timeout.connect(self._refresh)
         self.timer.start(int(1000 / REFRESH_HZ))
@@ -211,10 +214,8 @@ class MainWindow(QtWidgets.QMainWindow):
         # live plots and the set's analysis on their own tabs: a long result never squeezes the plots
         self.tabs = QtWidgets.QTabWidget()
         self.tabs.addTab(self.plots, "Live")
-        self.result_text = QtWidgets.QPlainTextEdit()
-        self.result_text.setReadOnly(True)
-        self.result_text.setStyleSheet("font-family: monospace")
-        self.tabs.addTab(self.result_text, "Results")
+        self.results = ResultsView()
+        self.tabs.addTab(self.results, "Results")
         main.addWidget(self.tabs, 1)
         self.plot_a = self.plots.addPlot(row=0, col=0)
         self.plot_b = self.plots.addPlot(row=1, col=0)
@@ -553,22 +554,27 @@ class MainWindow(QtWidgets.QMainWindow):
         protocol, store_root = runner.protocol, self.store.root
         subject = {"mass_kg": self.mass_spin.value(), "shank_length_m": self.shank_spin.value(),
                    "foot_length_m": self.foot_spin.value()}
-        self.result_text.setPlainText(f"analysing the accepted {protocol.name} trials of this session "
-                                      f"(trial {outcome.trial_id} is the newest) …")
+        self.results.busy(f"analysing the accepted {protocol.name} trials of this session "
+                          f"(trial {outcome.trial_id} is the newest) …")
 
         def work() -> None:
             try:
-                text = analyse_set(protocol, store_root, outcome.trial_id, subject)
+                result: SetAnalysis | str = analyse_set(protocol, store_root, outcome.trial_id, subject,
+                                                        progress=self.analysis_progress.emit)
             except Exception as err:
-                text = f"analysis failed: {type(err).__name__}: {err}"
-            self.analysis_ready.emit(text)
+                result = f"{type(err).__name__}: {err}"
+            self.analysis_ready.emit(result)
 
         self.tabs.setTabText(1, "Results (analysing …)")
         threading.Thread(target=work, name="set-analysis", daemon=True).start()
 
-    def _show_analysis(self, text: str) -> None:
-        self.analysis_text = text
-        self.result_text.setPlainText(text)
+    def _show_analysis(self, result: SetAnalysis | str) -> None:
+        if isinstance(result, SetAnalysis):
+            self.analysis_text = result.as_text()
+            self.results.show_analysis(result)
+        else:
+            self.analysis_text = f"analysis failed: {result}"
+            self.results.failed(result)
         self.tabs.setTabText(1, "Results (new)")
 
     # ------------------------------------------------------------------ refresh (timer)

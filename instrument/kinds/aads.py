@@ -16,7 +16,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from analysis.aads.experiment import AadsExperiment, TrialInput, analyze_experiment
+from analysis.aads.experiment import AadsExperiment, TrialInput, analyze_experiment, write_report
 from analysis.aads.model import default_jig_model, load_jig_model
 from analysis.aads.pipeline import analyze_trial
 from analysis.c3d import write_c3d
@@ -27,7 +27,17 @@ from drivers.simulation.aads_jig import AfoProperties
 
 from ..errors import InstrumentError, ProtocolError
 from ..live.motion import motion_trial
-from .base import AFO_STIFFNESS, Action, Curves, LiveView, Parameter, TrialKind, TrialProtocol, wait_or_stop
+from .base import (
+    AFO_STIFFNESS,
+    Action,
+    Curves,
+    LiveView,
+    Parameter,
+    SetAnalysis,
+    TrialKind,
+    TrialProtocol,
+    wait_or_stop,
+)
 
 #: the AADS springs of the dissertation (N/m), numbered as in Table 2.1
 AADS_SPRINGS_N_PER_M = {1: 9910.0, 2: 15600.0, 3: 25200.0}
@@ -256,22 +266,40 @@ class AadsKind(TrialKind):
                 pass  # a spring the built-in jig does not have: the file carries its number only
         write_c3d(out, motion_trial(trial), factors=factors)
 
-    def analyse_set(self, protocol: TrialProtocol, trials: Sequence[Any], subject: dict[str, float]) -> str:
+    def analyse_set(self, protocol: TrialProtocol, trials: Sequence[Any], subject: dict[str, float], *,
+                    figures_dir: Path | None = None,
+                    progress: Callable[[str], None] | None = None) -> SetAnalysis:
         assert isinstance(protocol, AadsProtocol)
         if not protocol.live_markers:
-            return ("force-guided AADS trial recorded; its stiffness needs the markers: export the C3D from the "
-                    "motion-capture system and run `instrument analyze afo FILE.c3d`.")
+            return SetAnalysis("force-guided AADS trial recorded; its stiffness needs the markers: export the C3D "
+                               "from the motion-capture system and run `instrument analyze afo FILE.c3d`.")
         model = load_jig_model()
         every = analyze_experiment([t.afo_input(model=model) for t in trials], model)
-        k = [r.stiffness_nm_per_deg for r in every.results if r.factors.get("spring") == protocol.spring]
-        line = (f"spring {protocol.spring}: {len(k)} accepted trial(s), stiffness "
-                f"{np.nanmean(k):.3f} ± {np.nanstd(k):.3f} N·m/° (fit {model.fit_window_deg[0]:g}–"
-                f"{model.fit_window_deg[1]:g}°)")
+        lo, hi = model.fit_window_deg
+        columns = ("spring", "trials", f"k {lo:g}–{hi:g}° (N·m/°)", "SD", "theory", "Δ theory (%)")
+        rows = []
+        for spring in sorted({r.factors.get("spring") for r in every.results}, key=lambda s: (s is None, s or 0)):
+            mine = [r for r in every.results if r.factors.get("spring") == spring]
+            k = np.array([r.stiffness_nm_per_deg for r in mine], dtype=float)
+            th = np.array([r.theoretical_stiffness_nm_per_deg for r in mine], dtype=float)
+            ok = k[np.isfinite(k)]
+            theory = float(np.nanmean(th)) if np.isfinite(th).any() else float("nan")
+            rows.append((str(spring), str(len(mine)), f"{ok.mean():.3f}" if ok.size else "no fit",
+                         f"{ok.std(ddof=1):.3f}" if ok.size > 1 else "one trial",  # never "± 0.000"
+                         f"{theory:.3f}" if np.isfinite(theory) else "—",
+                         f"{100 * (ok.mean() / theory - 1):+.1f}" if ok.size and np.isfinite(theory) else "—"))
+        k_now = [r.stiffness_nm_per_deg for r in every.results if r.factors.get("spring") == protocol.spring]
+        head = (f"spring {protocol.spring}: {np.nanmean(k_now):.3f} N·m/° from {len(k_now)} accepted "
+                f"trial{'s' * (len(k_now) != 1)} (fit {lo:g}–{hi:g}°)" if k_now else f"spring {protocol.spring}: no fit")
+        figures = ([f for f in write_report(every, figures_dir, model.fit_window_deg) if f.suffix == ".png"]
+                   if figures_dir is not None else [])
         # the session's AFO, all its springs: what its spring model misses, once a trial can be left out
         if len(every.results) < MIN_TRIALS_FOR_MODEL_DIAGNOSIS:
-            return line + (f"\nAFO model-level diagnosis: from {MIN_TRIALS_FOR_MODEL_DIAGNOSIS} accepted trials of "
-                           f"this AFO (has {len(every.results)})")
-        return line + "\n" + afo_model_diagnosis(every, model.fit_window_deg)[1]
+            details = (f"AFO model-level diagnosis: from {MIN_TRIALS_FOR_MODEL_DIAGNOSIS} accepted trials of "
+                       f"this AFO (has {len(every.results)})")
+        else:
+            details = afo_model_diagnosis(every, model.fit_window_deg)[1]
+        return SetAnalysis(head, columns, tuple(rows), tuple(str(f) for f in figures), details)
 
     def simulated_rig(self, protocol: TrialProtocol, subject: dict[str, float], afo: Any) -> dict[str, Any]:
         assert isinstance(protocol, AadsProtocol)

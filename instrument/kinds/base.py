@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, ClassVar
 
-from analysis.diagnosis import diagnose, from_table
+from analysis.diagnosis import diagnose, from_table, write_diagnosis_plot
 from drivers import StreamingDevice
 
 from ..errors import ExportError, ProtocolError
@@ -114,12 +114,50 @@ def live_check_agreement(diagnosis: Any) -> str:
             "trial if the subject was not relaxed, or the passive fit includes it")
 
 
-def diagnosis_line(tables: Sequence[Any]) -> str:
-    """The diagnosis of the set's newest trial, in one line for the set analysis ("" without trials)."""
+def diagnosis_line(tables: Sequence[Any], figures_dir: Path | None = None) -> tuple[str, list[Path]]:
+    """The diagnosis of the set's newest trial, in one line for the set analysis ("" without trials), and
+    its figure (written into ``figures_dir`` when given)."""
     if not tables:
-        return ""
+        return "", []
     d = diagnose(from_table(tables[-1]))
-    return "\ndiagnosis: " + d.text().splitlines()[0] + live_check_agreement(d)
+    figures = [write_diagnosis_plot(d, figures_dir / "diagnosis.png")] if figures_dir is not None else []
+    return "\ndiagnosis: " + d.text().splitlines()[0] + live_check_agreement(d), figures
+
+
+@dataclass(frozen=True)
+class SetAnalysis:
+    """A set's analysis as the operator reads it: a headline, a table, the figures and the full text.
+
+    :ivar headline: one or two lines, the result first (``spring 2: 0.699 N·m/° (1 trial)``)
+    :ivar columns: the table's column titles (units in them)
+    :ivar rows: the table's cells, as text
+    :ivar figures: the PNG files written for this set (paths as text)
+    :ivar details: the full report (what the command line prints)
+    """
+
+    headline: str
+    columns: tuple[str, ...] = ()
+    rows: tuple[tuple[str, ...], ...] = ()
+    figures: tuple[str, ...] = ()
+    details: str = ""
+
+    def as_text(self) -> str:
+        """Headline, table and details as plain text."""
+        lines = [self.headline]
+        if self.columns:
+            width = [max(len(c), *(len(r[i]) for r in self.rows)) for i, c in enumerate(self.columns)]
+            lines += ["  ".join(c.ljust(w) for c, w in zip(row, width)).rstrip()
+                      for row in (self.columns, *self.rows)]
+        return "\n".join(lines + ([self.details] if self.details else []))
+
+    def as_dict(self) -> dict[str, Any]:
+        return {"headline": self.headline, "columns": list(self.columns), "rows": [list(r) for r in self.rows],
+                "figures": list(self.figures), "details": self.details}
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> SetAnalysis:
+        return cls(str(d["headline"]), tuple(d.get("columns", ())), tuple(tuple(r) for r in d.get("rows", ())),
+                   tuple(d.get("figures", ())), str(d.get("details", "")))
 
 
 @dataclass(frozen=True)
@@ -297,11 +335,14 @@ class TrialKind(ABC):
 
     # --------------------------------------------------------------- analysis of an accepted set
     @abstractmethod
-    def analyse_set(self, protocol: TrialProtocol, trials: Sequence[Any], subject: dict[str, float]) -> str:
+    def analyse_set(self, protocol: TrialProtocol, trials: Sequence[Any], subject: dict[str, float], *,
+                    figures_dir: Path | None = None,
+                    progress: Callable[[str], None] | None = None) -> SetAnalysis:
         """The analysis of a session's accepted trials of this kind, as the operator reads it.
 
         ``trials`` are loaded trials (:class:`instrument.offline.loading.LoadedTrial`): ``table()``,
-        ``afo_input()``, ``metadata``."""
+        ``afo_input()``, ``metadata``. Figures go into ``figures_dir`` when given; ``progress`` hears
+        what a long fit is doing."""
 
     # --------------------------------------------------------------- simulated lab
     @abstractmethod
@@ -314,4 +355,4 @@ class TrialKind(ABC):
 
 __all__ = ["diagnosis_line", "live_check_agreement", "AFO_STIFFNESS", "HALT_RECORD_PERIODS", "PASSIVE_PARAMETERS",
            "POSITIONING_SPEED_DEG_S", "REPLICA_SPRINGS",
-           "Action", "Curves", "LiveView", "Parameter", "TrialKind", "TrialProtocol", "wait_or_stop"]
+           "Action", "Curves", "LiveView", "Parameter", "SetAnalysis", "TrialKind", "TrialProtocol", "wait_or_stop"]

@@ -12,7 +12,7 @@ import math
 import threading
 import time
 from abc import abstractmethod
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any, ClassVar
@@ -23,7 +23,7 @@ from analysis.c3d import write_analog_c3d
 from analysis.constants import GRAVITY_M_S2
 from analysis.errors import AnalysisError
 from analysis.pmp.model_diagnosis import folds_of
-from analysis.pmp.report import analyse, subject_from, text, trial_from_table
+from analysis.pmp.report import analyse, subject_from, summary_table, text, trial_from_table, write_plots
 from analysis.trial_csv import TrialTable
 from drivers import DriverError, Dynamometer, StreamingDevice
 from drivers.dynamometer import DEFAULT_LIMITS, SUBJECT_MAX_SPEED_DEG_S
@@ -38,6 +38,7 @@ from .base import (
     Curves,
     LiveView,
     Parameter,
+    SetAnalysis,
     TrialKind,
     TrialProtocol,
     diagnosis_line,
@@ -335,8 +336,11 @@ class IsokineticKind(TrialKind):
         except AnalysisError as err:
             raise ExportError(f"{trial.path}: {err}") from err
 
-    def analyse_set(self, protocol: TrialProtocol, trials: Sequence[Any], subject: dict[str, float]) -> str:
+    def analyse_set(self, protocol: TrialProtocol, trials: Sequence[Any], subject: dict[str, float], *,
+                    figures_dir: Path | None = None,
+                    progress: Callable[[str], None] | None = None) -> SetAnalysis:
         tables = [t.table() for t in trials]
+        figures: list[Path] = []
         try:  # a fit that does not converge says so in its own text (success=False)
             fits = [trial_from_table(t) for t in tables]
             # the model-level diagnosis (damping, a limb-mass error, an offset, ... fitted inside the
@@ -344,11 +348,17 @@ class IsokineticKind(TrialKind):
             # or three conditions (the knee at hip 90/55/15°)
             model = len(fits) >= 3 and len(folds_of(fits)) >= 2
             report = analyse(fits, subject_from(subject), intervals=16, diagnose_model=model, model_intervals=12,
-                             model_candidates=list(MODEL_CANDIDATES) if model else None)
+                             model_candidates=list(MODEL_CANDIDATES) if model else None, progress=progress)
+            head, columns, rows = summary_table(report)
             fitted = text(report)
+            if figures_dir is not None:
+                figures = [f for f in write_plots(report, figures_dir) if f.suffix == ".png"]
         except AnalysisError as err:  # missing anthropometrics, a rejected trial, ...: say so, show the diagnosis
-            fitted = f"passive parameters not fitted: {err}"
-        return fitted + diagnosis_line(tables)
+            head, columns, rows = f"passive parameters not fitted: {err}", (), []
+            fitted = head
+        line, diagnosis_figures = diagnosis_line(tables, figures_dir)
+        return SetAnalysis(f"{len(tables)} accepted {self.name} trial{'s' * (len(tables) != 1)}: {head}", columns,
+                           tuple(rows), tuple(str(f) for f in figures + diagnosis_figures), fitted + line)
 
     def simulated_rig(self, protocol: TrialProtocol, subject: dict[str, Any], afo: Any) -> dict[str, Any]:
         assert isinstance(protocol, IsokineticProtocol)

@@ -19,6 +19,7 @@ from analysis.pmp.replica import (
     estimate_replica,
     holds_from_samples,
     load_replica_model,
+    summary_table,
     text,
     write_plots,
 )
@@ -27,7 +28,17 @@ from drivers import StreamingDevice
 from drivers.simulation.replica_leg import ReplicaLeg
 
 from ..errors import ExportError
-from .base import REPLICA_SPRINGS, Curves, LiveView, Parameter, TrialKind, TrialProtocol, diagnosis_line, wait_or_stop
+from .base import (
+    REPLICA_SPRINGS,
+    Curves,
+    LiveView,
+    Parameter,
+    SetAnalysis,
+    TrialKind,
+    TrialProtocol,
+    diagnosis_line,
+    wait_or_stop,
+)
 
 #: the hold angles of the dissertation's replica-leg protocol (deg)
 HOLD_ANGLES_DEG = tuple(float(a) for a in range(0, 90, 8))
@@ -233,10 +244,15 @@ class ReplicaKind(TrialKind):
                            # conversions inside the holds that no poll read (the counter shows them)
                            **({"hold_conversions_missed": missed} if by_counter else {})})
 
-    def analyse_set(self, protocol: TrialProtocol, trials: Sequence[Any], subject: dict[str, float]) -> str:
+    def analyse_set(self, protocol: TrialProtocol, trials: Sequence[Any], subject: dict[str, float], *,
+                    figures_dir: Path | None = None,
+                    progress: Callable[[str], None] | None = None) -> SetAnalysis:
         tables = [t.table() for t in trials]
-        result, truth, _ = analyze_replica(tables, [t.metadata for t in trials], None, None)
-        return text(result, truth) + diagnosis_line(tables)
+        result, truth, figures = analyze_replica(tables, [t.metadata for t in trials], None, figures_dir)
+        head, columns, rows = summary_table(result, truth)
+        line, diagnosis_figures = diagnosis_line(tables, figures_dir)
+        return SetAnalysis(f"{len(tables)} accepted replica trial{'s' * (len(tables) != 1)}: {head}", columns,
+                           tuple(rows), tuple(str(f) for f in figures + diagnosis_figures), text(result, truth) + line)
 
     def simulated_rig(self, protocol: TrialProtocol, subject: dict[str, float], afo: Any) -> dict[str, Any]:
         assert isinstance(protocol, ReplicaProtocol)

@@ -13,7 +13,7 @@ from typing import Any
 import h5py
 import numpy as np
 
-from drivers import ConnectionLostError, StreamingDevice
+from drivers import ConnectionLostError, DriverError, StreamingDevice
 
 from .. import __version__
 from ..errors import DiskFullError, RecordingError
@@ -57,7 +57,9 @@ def record_trial(store: SessionStore, session_id: int, protocol: TrialProtocol,
     """Set up, record and index one trial.
 
     A device that loses its link mid-trial: the data on both sides of the hole is kept and the trial
-    is marked ``interrupted`` with the device named. A write failure (disk full): the trial is marked
+    is marked ``interrupted`` with the device named. A device that refuses a protocol's command (a
+    move sent just after an e-stop): the trial ends there, ``interrupted`` with the device's words,
+    its data kept. A write failure (disk full): the trial is marked
     ``failed``, the data flushed so far stays readable, and the error is raised.
 
     :raises RecordingError: the trial file could not be written.
@@ -86,6 +88,7 @@ def record_trial(store: SessionStore, session_id: int, protocol: TrialProtocol,
         store.finish_trial(trial_id, "failed", {}, reason=str(err))
         raise
     t0 = time.monotonic()
+    refused: DriverError | None = None
     engine.start(writer)
     try:
         def mark(kind: str, **fields: Any) -> None:
@@ -93,7 +96,11 @@ def record_trial(store: SessionStore, session_id: int, protocol: TrialProtocol,
             if on_event is not None:  # live consumers (the GUI's runner) learn the protocol's phases
                 on_event(kind, fields)
 
-        protocol.drive(engine.devices, mark, stop)
+        try:
+            protocol.drive(engine.devices, mark, stop)
+        except DriverError as err:  # a device refused a command (after an e-stop, say): the trial ends here
+            refused = err
+            mark("protocol_ended", error=str(err))
     finally:
         try:
             protocol.shutdown(engine.devices, mark)  # the arm is halted on every path, recorded
@@ -111,6 +118,8 @@ def record_trial(store: SessionStore, session_id: int, protocol: TrialProtocol,
     status, reason = "recorded", None
     if stop.is_set():
         status, reason = "interrupted", "stopped by the operator before the protocol ended"
+    elif refused is not None:
+        status, reason = "interrupted", f"the protocol ended early: {refused}"
     elif lost_links:
         status = "interrupted"
         reason = "; ".join(f"{n}: link lost {sum(ConnectionLostError.__name__ in e for e in r.errors)}× "

@@ -28,7 +28,14 @@ def test_a_knee_set_at_three_hip_angles_gets_the_model_level_diagnosis(tmp_path:
         ids.append(outcome.trial_id)
     subject = SUBJECT.as_dict()
     store.close()
-    text = analyse_set(KneeProtocol(hip_flexion_deg=15.0), tmp_path / "store", ids[2], subject)
+    result = analyse_set(KneeProtocol(hip_flexion_deg=15.0), tmp_path / "store", ids[2], subject)
+    text = result.as_text()
+    assert result.headline.startswith("3 accepted knee trials: ")
+    # the figures of the set: the fit, the parameters, the newest trial's diagnosis; drawn, in the store
+    assert [Path(f).name for f in result.figures] == ["pmp_fit.png", "pmp_parameters.png", "diagnosis.png"]
+    assert all(Path(f).is_file() and Path(f).is_relative_to(tmp_path / "store" / "figures") for f in result.figures)
+    assert result.columns == ("quantity", "generic", "estimate", "95 % interval") and result.rows
+    assert sum(r[0].startswith("forward dynamics") for r in result.rows) == 3
     # without repeats each candidate extension is judged by predicting held-out time blocks of every trial
     assert "model-level diagnosis (held-out across 4 folds of interleaved time blocks)" in text
     assert "diagnosis:" in text  # the trial-level diagnosis of the last trial follows
@@ -72,10 +79,15 @@ def test_an_aads_set_of_three_springs_gets_the_afo_model_level_diagnosis(tmp_pat
         ids.append(outcome.trial_id)
         if spring == 2:  # two trials: not yet, and said so
             store.close()
-            text = analyse_set(AadsProtocol(spring=2), tmp_path / "store", ids[1], {"mass_kg": 70.0})
+            text = analyse_set(AadsProtocol(spring=2), tmp_path / "store", ids[1], {"mass_kg": 70.0}).as_text()
             assert "AFO model-level diagnosis: from 3 accepted trials of this AFO (has 2)" in text
             store = SessionStore(tmp_path / "store")
     store.close()
-    text = analyse_set(AadsProtocol(spring=3), tmp_path / "store", ids[2], {"mass_kg": 70.0})
-    assert text.startswith("spring 3: 1 accepted trial(s), stiffness")
+    result = analyse_set(AadsProtocol(spring=3), tmp_path / "store", ids[2], {"mass_kg": 70.0})
+    text = result.as_text()
+    assert result.headline.startswith("spring 3: ") and "N·m/° from 1 accepted trial (fit 6–20°)" in result.headline
+    # one row per spring; a single trial has no spread, and says so instead of "± 0.000"
+    assert [r[:2] for r in result.rows] == [("1", "1"), ("2", "1"), ("3", "1")]
+    assert all(r[3] == "one trial" for r in result.rows)
+    assert [Path(f).name for f in result.figures] == ["torque_angle.png", "sop_vs_theory.png"]
     assert "AFO model-level diagnosis (held-out across 3 trials): hinge_friction" in text, text

@@ -102,6 +102,7 @@ def test_knee_trial_flags_a_burst_is_repeated_then_accepted(qtbot, window: MainW
     # the set's fit (or, honestly, that IPOPT did not converge on one short sweep) and its diagnosis
     assert ("fit:" in window.analysis_text or "did not converge" in window.analysis_text)
     assert "diagnosis" in window.analysis_text and "analysis failed" not in window.analysis_text
+    assert window.results.table.rowCount() >= 1 and "diagnosis.png" in [f.name for f in window.results.figures]
 
 
 def test_escape_is_an_emergency_stop_that_reaches_the_dynamometer(qtbot, window: MainWindow) -> None:
@@ -135,8 +136,14 @@ def test_aads_trial_draws_the_loop_and_checks_the_fit_window(qtbot, window: Main
     window.grab().save(str(shot))
     assert non_blank(shot)
     qtbot.mouseClick(window.accept_button, QtCore.Qt.MouseButton.LeftButton)
+    # the Results view says it is computing (its answer arrives through the event loop, not before)
+    assert not window.results.busy_bar.isHidden() and "analysing the accepted aads" in window.results.headline.text()
     qtbot.waitUntil(lambda: window.analysis_text != "", timeout=60000)
     assert "N·m/°" in window.analysis_text and "failed" not in window.analysis_text
+    results = window.results
+    assert results.busy_bar.isHidden() and results.table.rowCount() == 1 and results.table.columnCount() == 6
+    assert results.table.item(0, 3).text() == "one trial"  # not "± 0.000"
+    assert results.shown_figure() == "torque_angle.png" and not results.figure_label.pixmap().isNull()
     assert window.field_value("trial") == 2  # the next trial number is offered
     window._refresh()  # after a normal trial no device is reported lost (closed ones say "closed")
     assert "DISCONNECTED" not in window.health.text(), window.health.text()
@@ -159,7 +166,7 @@ def test_replica_trial_and_closing_mid_trial_keeps_the_data(qtbot, window: MainW
     runner = window.runner
     window.close()
     snap = runner.snapshot()
-    assert snap.phase == "done" and snap.emergency_stop_s is not None
+    assert snap.phase == "done" and snap.emergency_stop_s is not None, snap.error
     rec = window.store.trial(snap.outcome.trial_id)
     assert rec.status == "interrupted"
     assert read_trial(rec.path).devices["dynamometer"].samples > 50
@@ -213,14 +220,26 @@ def test_arm_entries_reach_the_protocol_and_its_checklist(window: MainWindow) ->
 
 
 def test_a_long_result_gets_its_own_tab_and_leaves_the_plots_alone(window: MainWindow, tmp_path: Path) -> None:
+    from instrument.kinds.base import SetAnalysis
+
     window.protocol_box.setCurrentIndex(1)
     QtCore.QCoreApplication.processEvents()
     before = window.plots.height()
-    window._show_analysis("\n".join(f"line {i}: parameter estimate and interval" for i in range(40)))
+    rows = tuple((f"muscle{i}.tendon_slack_length_m", "0.3", f"0.3{i}", "[0.29, 0.31]") for i in range(40))
+    window._show_analysis(SetAnalysis("40 of 40 parameters determined", ("quantity", "generic", "estimate",
+                                                                         "95 % interval"), rows,
+                                      details="\n".join(f"line {i}" for i in range(200))))
     QtCore.QCoreApplication.processEvents()
     assert window.plots.height() == before
     assert window.tabs.tabText(1) == "Results (new)"
-    assert window.result_text.toPlainText().count("\n") == 39
+    assert window.results.table.rowCount() == 40 and window.results.table.item(39, 2).text() == "0.339"
+    assert window.results.details.toPlainText().count("\n") == 199
+    # a failure is one line on top, its whole text underneath; the plots keep their size
+    window._show_analysis("AnalysisError: " + "\n".join(f"traceback line {i}" for i in range(40)))
+    QtCore.QCoreApplication.processEvents()
+    assert window.plots.height() == before
+    assert window.results.headline.text() == "analysis failed: AnalysisError: traceback line 0"
+    assert window.results.table.rowCount() == 0 and "traceback line 39" in window.results.details.toPlainText()
     window.tabs.setCurrentIndex(1)
     QtCore.QCoreApplication.processEvents()
     assert window.grab().save(str(tmp_path / "results-tab.png")) and non_blank(tmp_path / "results-tab.png")

@@ -65,6 +65,25 @@ def test_operator_guide_screenshots(qtbot, tmp_path: Path) -> None:  # type: ign
         qtbot.wait(300)
         shots.append(out / "operator-knee-alarm.png")
         assert window.grab().save(str(shots[-1]))
+        qtbot.mouseClick(window.banner_button, QtCore.Qt.MouseButton.LeftButton)
+        qtbot.mouseClick(window.repeat_button, QtCore.Qt.MouseButton.LeftButton)
+        # an AADS trial accepted: the Results tab with the spring's table and the torque–angle figure
+        window.protocol_box.setCurrentIndex([k.name for k in kinds.KINDS].index("aads"))
+        window.confirm_checklist()
+        assert window.start_button.isEnabled()
+        qtbot.mouseClick(window.start_button, QtCore.Qt.MouseButton.LeftButton)
+        qtbot.waitUntil(lambda: window.runner is not None and window.runner.snapshot().phase in ("done", "failed"),
+                        timeout=60000)
+        qtbot.waitUntil(lambda: window.accept_button.isEnabled(), timeout=5000)
+        qtbot.mouseClick(window.accept_button, QtCore.Qt.MouseButton.LeftButton)
+        qtbot.waitUntil(lambda: window.analysis_text != "", timeout=60000)
+        if window.banner.isVisible():  # the simulated operator may bend past the stop: flagged, acknowledged
+            qtbot.mouseClick(window.banner_button, QtCore.Qt.MouseButton.LeftButton)
+        window.tabs.setCurrentIndex(1)
+        QtCore.QCoreApplication.processEvents()
+        assert window.results.table.rowCount() == 1 and window.results.shown_figure() == "torque_angle.png"
+        shots.append(out / "operator-results-aads.png")
+        assert window.grab().save(str(shots[-1]))
     finally:
         window.close()
         store.close()

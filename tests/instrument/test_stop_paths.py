@@ -117,3 +117,27 @@ def test_the_device_enforces_a_rom_narrowed_mid_move(store: SessionStore) -> Non
     path = store.trial(snap.outcome.trial_id).path
     pos = np.rad2deg(read_trial(path).devices["dynamometer"].channels["position_rad"])
     assert pos.max() < 60.0 - 5.0  # stopped at the narrowed stop, far from the sweep's end
+
+
+def test_an_estop_just_before_the_protocols_next_move_ends_the_trial_with_its_data(store: SessionStore) -> None:
+    # the race a closing window met: the e-stop goes out between the sweep's start mark and its move command;
+    # the driver refuses the move, and the trial ends interrupted with the device's words, nothing lost
+    from instrument.live.session import record_trial
+
+    source = SimulatedSource(seed=12)
+    proto = KneeProtocol(end_deg=60.0, speed_deg_s=20.0)
+    with source.devices(proto) as devices:
+        sim = source.lab.dynamometer  # type: ignore[union-attr]  # inside the source's trial the lab is set
+        dyno = devices["dynamometer"]
+
+        def on_event(kind: str, fields: dict) -> None:
+            if kind == "sweep_start":
+                dyno.emergency_stop()  # type: ignore[attr-defined]  # the knee protocol's device is a Dynamometer
+
+        outcome = record_trial(store, store.new_session("S01"), proto, devices, on_event=on_event)
+        assert sim.state == State.ESTOP
+    rec = store.trial(outcome.trial_id)
+    assert rec.status == "interrupted" and "emergency stop" in (rec.reason or "")
+    kinds = _kinds(rec.path)
+    assert kinds.index("sweep_start") < kinds.index("protocol_ended") < kinds.index("halted")
+    assert read_trial(rec.path).devices["dynamometer"].samples > 10
