@@ -97,6 +97,8 @@ def test_demo_records_a_lab_day_into_a_store(demo_run: tuple[Path, str]) -> None
     # the subject's moments are OpenSim's, with structures and muscles the estimator lacks: the model-level
     # diagnosis names the end-range structures, the extended model fits, and what it determines holds the truth
     assert pmp["model_diagnosis"]["cause"] == "end_range_structures"
+    # no repeats: each candidate judged by predicting held-out time blocks of every trial
+    assert pmp["model_diagnosis"]["folds"] == [f"blocks {k}" for k in range(1, 5)]
     assert pmp["extended"]["misfit_ratio"] < pmp["extended"]["plain_misfit_ratio"] / 3
     assert len(pmp["against_truth"]) >= 2 and all(c["held"] for c in pmp["against_truth"])
     replica = report["replica"]  # the rig's springs through the real Modbus driver, against the simulator's truth
