@@ -30,6 +30,7 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
     items.sort(key=lambda item: rank.get(_file_of(item.nodeid), len(rank)))  # stable: a file's own order kept
 
 
+@pytest.hookimpl(optionalhook=True)  # a hook of pytest-xdist's: without xdist (``-p no:xdist``) it is not called
 def pytest_xdist_make_scheduler(config: pytest.Config, log: object) -> object:
     """The workers' units: a file, or one test of :data:`SPLIT_FILES` (xdist's ``loadgroup`` would say this
     with marks, but it renames node ids, which pytest 9 no longer lets it do)."""
