@@ -145,7 +145,7 @@ class SetAnalysis:
         """Headline, table and details as plain text."""
         lines = [self.headline]
         if self.columns:
-            width = [max(len(c), *(len(r[i]) for r in self.rows)) for i, c in enumerate(self.columns)]
+            width = [max([len(c), *(len(r[i]) for r in self.rows)]) for i, c in enumerate(self.columns)]
             lines += ["  ".join(c.ljust(w) for c, w in zip(row, width)).rstrip()
                       for row in (self.columns, *self.rows)]
         return "\n".join(lines + ([self.details] if self.details else []))

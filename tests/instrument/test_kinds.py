@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import ast
+import json
 from pathlib import Path
 
 import numpy as np
@@ -136,3 +137,21 @@ def test_the_knee_out_and_back_records_both_legs_and_the_diagnosis_reads_them(tm
     assert table.angle_deg[0] < 2.0 and table.angle_deg[-1] < 2.0  # out from 0° and back to it
     d = diagnose(from_table(table))
     assert d.text()  # the diagnosis reads a return sweep (its cause is not asserted: the subject is realistic)
+
+
+_cell = st.text(st.characters(blacklist_categories=("Cs", "Cc", "Zl", "Zp"), blacklist_characters="\x85"), max_size=12)
+
+
+@given(st.integers(0, 5).flatmap(lambda n: st.tuples(
+    st.lists(_cell, min_size=n, max_size=n), st.lists(st.lists(_cell, min_size=n, max_size=n), max_size=6))))
+def test_a_set_analysis_reads_as_text_and_round_trips_whatever_its_table(table: tuple[list[str], list[list[str]]]) -> None:
+    """Any table (no rows at all, empty cells, a column title longer than its cells) prints aligned, one line per
+    row under the headline, and comes back from its JSON form unchanged (the store keeps it that way)."""
+    from instrument.kinds.base import SetAnalysis
+
+    columns, rows = table
+    a = SetAnalysis("headline", tuple(columns), tuple(tuple(r) for r in rows), ("/x/fig.png",), "details")
+    lines = a.as_text().splitlines()
+    assert lines[0] == "headline" and lines[-1] == "details"
+    assert len(lines) == 2 + (1 + len(rows) if columns else 0)
+    assert SetAnalysis.from_dict(json.loads(json.dumps(a.as_dict()))) == a
