@@ -11,6 +11,10 @@ from instrument import kinds
 from instrument.cli import main
 
 
+#: the demo's run (4–6 min on a loaded 2-core host) is set up inside whichever of these tests comes first
+pytestmark = pytest.mark.timeout(900)
+
+
 @pytest.fixture(scope="module")
 def demo_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, str]:
     """One run of the whole demo (about 90 s alone, longer on a loaded host), shared by the tests."""
@@ -38,7 +42,6 @@ def test_the_demo_tells_a_short_story_with_its_figures(demo_run: tuple[Path, str
     assert "holds it" not in text and "IPOPT" not in text  # the detail is in the report file
 
 
-@pytest.mark.timeout(900)
 def test_demo_streams_every_device(demo_run: tuple[Path, str]) -> None:
     tmp_path, printed = demo_run
     report = json.loads((tmp_path / "demo.json").read_text())
@@ -58,7 +61,6 @@ def test_demo_streams_every_device(demo_run: tuple[Path, str]) -> None:
     assert "rate Hz" in printed and "every sample arrived" in results
 
 
-@pytest.mark.timeout(900)
 def test_demo_records_a_lab_day_into_a_store(demo_run: tuple[Path, str]) -> None:
     tmp_path, printed = demo_run
     report = json.loads((tmp_path / "demo.json").read_text())
