@@ -33,7 +33,9 @@ def test_horn_equals_kabsch_on_marker_clusters(seed: int, markers: int, noise_m:
     h = np.einsum("mi,nmj->nij", xc, yc)
     rot, determined = horn_rotations(h)
     assert determined.all()
-    np.testing.assert_allclose(rot, kabsch_rotations(h), atol=1e-9)
+    # the same rotation to 1e-7 (0.1 µrad): Horn's eigenvector carries round-off ∝ 1/eigengap, which a noisy
+    # three-marker cluster makes small (seed 5998: 1.2e-8 apart); exact data agree to 1e-9 below
+    np.testing.assert_allclose(rot, kabsch_rotations(h), atol=1e-7)
     if noise_m == 0.0:
         np.testing.assert_allclose(rot, truth, atol=1e-9)
 

@@ -10,7 +10,6 @@ import pytest
 from instrument import kinds
 from instrument.cli import main
 
-
 #: the demo's run (4–6 min on a loaded 2-core host) is set up inside whichever of these tests comes first
 pytestmark = pytest.mark.timeout(900)
 
