@@ -46,6 +46,10 @@ RPM_TO_RAD_S = 2 * np.pi / 60.0
 T = TypeVar("T")
 
 
+
+#: requests sent at open before a unit is reported as not answering
+OPEN_ATTEMPTS = 3
+
 class ModbusTorqueSensor(TorqueSensor):
     """Polls torque (and optionally speed) as fast as the link allows, or at ``rate`` Hz.
 
@@ -153,8 +157,13 @@ class ModbusTorqueSensor(TorqueSensor):
         if not ok:
             self._close_internal()
             raise DeviceInitializationError(f"{self.name}: cannot connect to {self.port}")
-        # the transmitter must answer before we call it open
-        regs = self._read_registers(self.registers.zero_offset, 2)
+        # the transmitter must answer before we call it open; one poll's timeout is short (a sample period),
+        # so a busy host or a frame lost on the wire gets OPEN_ATTEMPTS requests before "does not answer"
+        regs = None
+        for _ in range(OPEN_ATTEMPTS):
+            regs = self._read_registers(self.registers.zero_offset, 2)
+            if regs is not None:
+                break
         if regs is None:
             self._close_internal()
             raise DeviceInitializationError(f"{self.name}: unit {self.unit} on {self.port} does not answer")
