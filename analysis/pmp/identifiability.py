@@ -79,10 +79,11 @@ class Identifiability:
 AT_BOUND_REL = 1e-3
 
 
-def parameters_at_bound(result: PmpResult, names: list[str]) -> list[str]:
-    """The parameters among ``names`` that a fit left at (within :data:`AT_BOUND_REL` of) a bound."""
-    return [n for n in names if result.parameters[n] <= result.lower[n] * (1 + AT_BOUND_REL)
-            or result.parameters[n] >= result.upper[n] * (1 - AT_BOUND_REL)]
+def parameters_at_bound(result: PmpResult, names: list[str] | None = None) -> list[str]:
+    """The parameters among ``names`` (default: all) that a fit left at (within :data:`AT_BOUND_REL` of) a bound."""
+    p, lo, hi = result.parameters, result.lower, result.upper
+    return [n for n in (p if names is None else names)
+            if p[n] <= lo[n] * (1 + AT_BOUND_REL) or p[n] >= hi[n] * (1 - AT_BOUND_REL)]
 
 
 def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None = None,

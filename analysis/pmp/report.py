@@ -214,7 +214,7 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
             # muscle parameter at a bound, it is repeated from the generic model and the lower cost is kept
             fits = [estimate(trials, subject, leg=leg, intervals=intervals, extension=extension,
                              initial=plain_res.parameters)]
-            if not fits[0].success or parameters_at_bound(fits[0], list(fits[0].parameters)):
+            if not fits[0].success or parameters_at_bound(fits[0]):
                 fits.append(estimate(trials, subject, leg=leg, intervals=intervals, extension=extension))
             res = min((f for f in fits if f.success), key=lambda f: f.fun, default=fits[0])
             idf = identifiability(res, trials, subject, leg=leg, extension=extension)

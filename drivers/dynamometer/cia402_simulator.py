@@ -383,7 +383,7 @@ class Cia402DriveSimulator:
         self._set(c.TORQUE_ACTUAL, int(np.clip(round(1000.0 * tau / rated_nm), -32768, 32767)))
         self._publish()
         f = self.faults
-        if self.node.nmt.state != "OPERATIONAL" or f.silent_at(t_stream) or self.faults.vanished_at(t_stream):
+        if self.node.nmt.state != "OPERATIONAL" or f.silent_at(t_stream) or f.vanished_at(t_stream):
             return
         if f.drop_rate and self.rng.random() < f.drop_rate:
             return

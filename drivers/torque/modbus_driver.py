@@ -44,11 +44,9 @@ DEFAULT_REGISTERS = r.RegisterMap()
 
 RPM_TO_RAD_S = 2 * np.pi / 60.0
 T = TypeVar("T")
-
-
-
 #: requests sent at open before a unit is reported as not answering
 OPEN_ATTEMPTS = 3
+
 
 class ModbusTorqueSensor(TorqueSensor):
     """Polls torque (and optionally speed) as fast as the link allows, or at ``rate`` Hz.

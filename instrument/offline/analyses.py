@@ -36,10 +36,11 @@ def analyse_set(protocol: TrialProtocol, store_root: Any, trial_id: int, subject
                 and t.status == "accepted"]
         settings = {"condition": protocol.condition(), "subject": subject}
         name = f"set_{protocol.name}"
+        inputs = trial_inputs(same)  # every trial file hashed once: names the figures' folder and keys the result
         if store.read_only:
             figures_dir = Path(tempfile.mkdtemp(prefix="instrument-figures-"))
         else:
-            figures_dir = Path(store.root) / "figures" / f"{name}-{analysis_key(name, trial_inputs(same), settings)[:12]}"
+            figures_dir = Path(store.root) / "figures" / f"{name}-{analysis_key(name, inputs, settings)[:12]}"
 
         def run() -> dict[str, Any]:
             return kind.analyse_set(protocol, load_trials(same, store), subject, figures_dir=figures_dir,
@@ -47,9 +48,9 @@ def analyse_set(protocol: TrialProtocol, store_root: Any, trial_id: int, subject
 
         if store.read_only:
             return SetAnalysis.from_dict(run())
-        payload, stored = remembered(store, name, same, settings, run)
+        payload, stored = remembered(store, name, same, settings, run, inputs=inputs)
         if stored and not all(Path(f).is_file() for f in payload.get("figures", ())):  # figures deleted: redraw
-            payload, _ = remembered(store, name, same, settings, run, recompute=True)
+            payload, _ = remembered(store, name, same, settings, run, recompute=True, inputs=inputs)
         return SetAnalysis.from_dict(payload)
     finally:
         store.close()

@@ -101,10 +101,12 @@ def analysis_key(kind: str, inputs: dict[str, Any], settings: dict[str, Any]) ->
 
 
 def remembered(store: SessionStore, kind: str, records: Sequence[TrialRecord], settings: dict[str, Any],
-               compute: Callable[[], dict[str, Any]], *, recompute: bool = False) -> tuple[dict[str, Any], bool]:
+               compute: Callable[[], dict[str, Any]], *, recompute: bool = False,
+               inputs: dict[str, Any] | None = None) -> tuple[dict[str, Any], bool]:
     """The analysis's JSON-able result: read back from the store when it holds one for these
-    inputs and settings (True), otherwise computed by ``compute()`` and kept (False)."""
-    inputs = trial_inputs(records)
+    inputs and settings (True), otherwise computed by ``compute()`` and kept (False). ``inputs``:
+    :func:`trial_inputs` of ``records`` when the caller has it already (each trial file is hashed once)."""
+    inputs = inputs if inputs is not None else trial_inputs(records)
     key = analysis_key(kind, inputs, settings)
     if not recompute:
         stored = store.result(key)

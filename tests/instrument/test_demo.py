@@ -16,7 +16,7 @@ pytestmark = pytest.mark.timeout(900)
 
 @pytest.fixture(scope="module")
 def demo_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, str]:
-    """One run of the whole demo (about 90 s alone, longer on a loaded host), shared by the tests."""
+    """One run of the whole demo (3 min 58 s alone on this 2-core machine, longer loaded), shared by the tests."""
     import contextlib
     import io
 
