@@ -37,6 +37,11 @@ log = logging.getLogger(__name__)
 log.addHandler(logging.NullHandler())
 
 
+#: an idempotent command (start, stop, a register or object write the device reads back) is sent at most
+#: this many times before the driver reports "no reply"; each repeat is counted in ``command_retries``
+COMMAND_ATTEMPTS = 2
+
+
 @dataclass
 class DeviceStats:
     """Running counts for one device since :meth:`StreamingDevice.start`."""
@@ -53,6 +58,7 @@ class DeviceStats:
     counter_resyncs: int = 0
     timeouts: int = 0
     poll_timeouts: int = 0  # polls the device left unanswered (a slow host or a silent line), not bad frames
+    command_retries: int = 0  # idempotent commands answered only when sent again (a reply lost or late)
     disconnects: int = 0
     reconnects: int = 0
     first_time_s: float = float("nan")

@@ -13,8 +13,9 @@ from contextlib import contextmanager
 
 
 class ScriptedPeer:
-    def __init__(self, pairs: list[tuple[bytes, bytes]]) -> None:
+    def __init__(self, pairs: list[tuple[bytes, bytes]], linger_s: float = 0.2) -> None:
         self.pairs = list(pairs)
+        self.linger_s = linger_s
         self.received: list[bytes] = []
         self.errors: list[str] = []
         self.leftover = b""
@@ -43,7 +44,7 @@ class ScriptedPeer:
                     self.errors.append(f"expected {expected.hex()}, got {got.hex()}")
                     return
                 conn.sendall(reply)
-            conn.settimeout(0.2)
+            conn.settimeout(self.linger_s)
             try:
                 buf += conn.recv(4096)
             except (TimeoutError, OSError):
@@ -61,8 +62,9 @@ class ScriptedPeer:
 
 
 @contextmanager
-def expected_protocol(pairs: list[tuple[bytes, bytes]]) -> Iterator[ScriptedPeer]:
-    peer = ScriptedPeer(pairs)
+def expected_protocol(pairs: list[tuple[bytes, bytes]], linger_s: float = 0.2) -> Iterator[ScriptedPeer]:
+    """A scripted peer; after the last reply it keeps the line open ``linger_s`` s (a silent device)."""
+    peer = ScriptedPeer(pairs, linger_s)
     try:
         yield peer
     finally:

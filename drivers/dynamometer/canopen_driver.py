@@ -25,11 +25,12 @@ the statusword, re-sent by the runner while unconfirmed).
 
 from __future__ import annotations
 
+import logging
 import math
 import queue
 import struct
 import threading
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
@@ -38,6 +39,7 @@ import can
 import canopen
 import numpy as np
 
+from ..base import COMMAND_ATTEMPTS
 from ..blocks import DynamometerBlock
 from ..clock import CounterClock, CounterUnwrapper, monotonic_s
 from ..errors import (
@@ -54,10 +56,15 @@ from . import cia402 as c
 from . import protocol as p
 from .cia402 import PowerState
 
+log = logging.getLogger(__name__)
+
 #: telemetry rates the event timer (whole ms) can give
 RATES_HZ = (100, 125, 200, 250, 500, 1000)
 #: how long a state change may take to show in the statusword (s)
 STATE_TIMEOUT_S = 0.5
+#: how long the SDO client waits for the drive's answer to one request (s); a drive answers in
+#: milliseconds, a starved host's simulated drive (or a busy gateway) in tenths of a second
+SDO_RESPONSE_TIMEOUT_S = 1.0
 
 
 def summary_state(statusword: int, velocity_counts: int, quick_stopped: bool = False) -> p.State:
@@ -148,6 +155,8 @@ class CanopenDynamometer(Dynamometer):
             with error_check(f"{self.name}: cannot read the EDS {self.eds}", DeviceInitializationError):
                 od = canopen.import_od(str(self.eds), self.node_id)
             node = network.add_node(self.node_id, od)
+            node.sdo.RESPONSE_TIMEOUT = SDO_RESPONSE_TIMEOUT_S
+            node.sdo.MAX_RETRIES = 1  # one request per call (the library's count includes it): repeats are ours
             self.node = node
             try:
                 node.nmt.wait_for_heartbeat(3 * c.DRIVE_HEARTBEAT_S + 0.2)
@@ -251,16 +260,33 @@ class CanopenDynamometer(Dynamometer):
         return obj if sub == 0 and isinstance(obj, canopen.sdo.SdoVariable) else obj[sub]
 
     def _read(self, index: int, sub: int = 0) -> int:
-        with self._sdo_lock, self._sdo_errors(f"read 0x{index:04X} sub {sub}"):
-            return int(self._sdo_object(index, sub).raw)
+        return int(self._sdo_transfer(f"read 0x{index:04X} sub {sub}", lambda: self._sdo_object(index, sub).raw))
 
     def _write(self, index: int, value: int, sub: int = 0, readback: bool = True) -> None:
-        with self._sdo_lock, self._sdo_errors(f"write 0x{index:04X} sub {sub} = {value}"):
+        def transfer() -> int:
             obj = self._sdo_object(index, sub)
             obj.raw = value
-            got = int(obj.raw) if readback else value
+            return int(obj.raw) if readback else value
+
+        got = self._sdo_transfer(f"write 0x{index:04X} sub {sub} = {value}", transfer)
         if got != value:
             raise DeviceInitializationError(f"{self.name}: 0x{index:04X} sub {sub} reads back {got}, set {value}")
+
+    def _sdo_transfer(self, what: str, transfer: Callable[[], Any]) -> Any:
+        """One SDO read or write; a request the drive left unanswered is sent again (reads and writes of
+        one value are idempotent) up to :data:`COMMAND_ATTEMPTS` times, each repeat counted in
+        ``stats.command_retries`` and logged; an abort is never repeated."""
+        for attempt in range(1, COMMAND_ATTEMPTS + 1):
+            try:
+                with self._sdo_lock, self._sdo_errors(what):
+                    return transfer()
+            except DeviceTimeoutError:
+                if attempt == COMMAND_ATTEMPTS:
+                    raise
+                self.stats.command_retries += 1
+                log.warning("%s: no answer to %s within %g s; sending it again", self.name, what,
+                            SDO_RESPONSE_TIMEOUT_S)
+        raise AssertionError("unreachable")  # pragma: no cover
 
     @contextmanager
     def _sdo_errors(self, what: str) -> Iterator[None]:

@@ -16,7 +16,8 @@ every fault reaction decelerate on the quick-stop ramp (0x6085). Telemetry torqu
 :class:`~drivers.simulation.seated_leg.SeatedLeg` plus sensor noise, as in the frame-set simulator.
 
 ``lose_estop_frames`` drops the next N quick-stop controlwords (a frame the host sent that never
-arrives); ``faults`` (drop, corrupt, truncate, garbage, silence) act on the TPDOs as on the other
+arrives); ``lose_sdo_requests`` leaves the next N SDO requests unanswered;
+``faults`` (drop, corrupt, truncate, garbage, silence) act on the TPDOs as on the other
 simulators' telemetry.
 """
 
@@ -53,7 +54,7 @@ class Cia402DriveSimulator:
                  node: int = p.NODE_ID_DEFAULT, telemetry_rate_hz: int = 100, start_position_deg: float = 0.0,
                  device_rom_deg: tuple[float, float] = (-60.0, 130.0), noise_nm: float = 0.05,
                  faults: FaultConfig | None = None, seed: int = 0, autostart: bool = True,
-                 lose_estop_frames: int = 0) -> None:
+                 lose_estop_frames: int = 0, lose_sdo_requests: int = 0) -> None:
         self.leg = leg or SeatedLeg()
         self.node_id = node
         self.device_rom_deg = device_rom_deg
@@ -64,11 +65,16 @@ class Cia402DriveSimulator:
         self._noise_origin = 0
         self.lose_estop_frames = lose_estop_frames
         self.estop_frames_lost = 0
+        #: the next this many SDO requests go unanswered (a lost frame, a drive busy past the host's timeout)
+        self.lose_sdo_requests = lose_sdo_requests
+        self.sdo_requests_lost = 0
         self.network = canopen.Network(can.Bus(interface=interface, channel=channel, receive_own_messages=False))
         self.network.connect()
         self.od = canopen.import_od(str(c.EDS_PATH), node)
         self.node = canopen.LocalNode(node, self.od)
         self.network.add_node(self.node)
+        self.network.unsubscribe(self.node.sdo.rx_cobid, self.node.sdo.on_request)
+        self.network.subscribe(self.node.sdo.rx_cobid, self._on_sdo_request)
         self.node.add_write_callback(self._on_write)
         self._signed = c.signed_objects(self.od)
         self._layouts = [c.PdoLayout.from_mapping(c.mapping_words(self.od, m), self._signed)
@@ -173,6 +179,14 @@ class Cia402DriveSimulator:
         self.close()
 
     # -- host traffic (the network's notifier thread)
+    def _on_sdo_request(self, can_id: int, data: bytearray, timestamp: float) -> None:
+        is_abort = data[0] & 0xE0 == 0x80  # the client's abort after its timeout is not a request
+        if self.lose_sdo_requests > 0 and not is_abort:
+            self.lose_sdo_requests -= 1
+            self.sdo_requests_lost += 1
+            return
+        self.node.sdo.on_request(can_id, data, timestamp)
+
     def _on_host_heartbeat(self, can_id: int, data: bytearray, timestamp: float) -> None:
         self.last_heartbeat_s = time.monotonic()
 

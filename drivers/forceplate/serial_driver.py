@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import logging
 import threading
 from typing import Any
 
 import numpy as np
 import serial
 
+from ..base import COMMAND_ATTEMPTS
 from ..blocks import ForcePlateBlock
 from ..clock import CounterClock, CounterUnwrapper, monotonic_s
 from ..errors import (
@@ -20,6 +22,8 @@ from ..errors import (
 from ..url import DeviceUrl
 from . import ForcePlate
 from . import protocol as p
+
+log = logging.getLogger(__name__)
 
 #: replies and other non-sample frames kept for a command to pick up; older ones are dropped and counted
 MAX_PENDING_REPLIES = 32
@@ -130,22 +134,33 @@ class SerialForcePlate(ForcePlate):
             return self._serial.read(max(self._serial.in_waiting, 16 * p.SAMPLE_FRAME_BYTES))
 
     def _command(self, command: p.Command, argument: int = 0, expect: p.Kind = p.Kind.REPLY) -> bytes:
-        """Send a command and wait for its reply (samples arriving meanwhile are kept)."""
-        self._write(p.encode_command(command, argument))
-        deadline = monotonic_s() + self.command_timeout_s
-        while monotonic_s() < deadline:
-            for i, (kind, payload) in enumerate(self._replies):
-                if kind == expect and (kind != p.Kind.REPLY or payload[0] == command):
-                    del self._replies[i]
-                    if kind == p.Kind.REPLY and payload[1] != p.Status.OK:
-                        raise CommandRefusedError(
-                            f"{self.name}: {command.name} refused: {p.Status(payload[1]).name}",
-                            error_code=payload[1])
-                    return payload
-            block = self._ingest(self._read_bytes(), monotonic_s())
-            if block is not None and self._streaming:
-                self._deliver(block)  # samples in flight while we wait are kept, never dropped
-        raise DeviceTimeoutError(f"{self.name}: no reply to {command.name} within {self.command_timeout_s} s")
+        """Send a command and wait for its reply (samples arriving meanwhile are kept).
+
+        Every command of this protocol is idempotent, so one that gets no reply within
+        ``command_timeout_s`` is sent again (up to :data:`COMMAND_ATTEMPTS` times, each repeat counted in
+        ``stats.command_retries`` and logged) before :class:`DeviceTimeoutError`.
+        """
+        for attempt in range(COMMAND_ATTEMPTS):
+            if attempt:
+                self.stats.command_retries += 1
+                log.warning("%s: no reply to %s within %g s; sending it again", self.name, command.name,
+                            self.command_timeout_s)
+            self._write(p.encode_command(command, argument))
+            deadline = monotonic_s() + self.command_timeout_s
+            while monotonic_s() < deadline:
+                for i, (kind, payload) in enumerate(self._replies):
+                    if kind == expect and (kind != p.Kind.REPLY or payload[0] == command):
+                        del self._replies[i]
+                        if kind == p.Kind.REPLY and payload[1] != p.Status.OK:
+                            raise CommandRefusedError(
+                                f"{self.name}: {command.name} refused: {p.Status(payload[1]).name}",
+                                error_code=payload[1])
+                        return payload
+                block = self._ingest(self._read_bytes(), monotonic_s())
+                if block is not None and self._streaming:
+                    self._deliver(block)  # samples in flight while we wait are kept, never dropped
+        raise DeviceTimeoutError(f"{self.name}: no reply to {command.name} in {COMMAND_ATTEMPTS} attempts of "
+                                 f"{self.command_timeout_s} s")
 
     # -- samples
     def _ingest(self, data: bytes, arrival_s: float) -> ForcePlateBlock | None:

@@ -20,7 +20,7 @@ from drivers.dynamometer.canopen_driver import CanopenDynamometer
 from drivers.dynamometer.cia402 import PowerState
 from drivers.dynamometer.cia402_simulator import Cia402DriveSimulator
 from drivers.dynamometer.protocol import State
-from drivers.errors import CommandRefusedError, DeviceNotAvailableError, LimitViolationError
+from drivers.errors import CommandRefusedError, DeviceNotAvailableError, DeviceTimeoutError, LimitViolationError
 from drivers.simulation.faults import FaultConfig
 
 NODE = 0x10
@@ -148,6 +148,21 @@ def test_limits_are_checked_before_anything_reaches_the_bus(rig: Rig) -> None:
     with pytest.raises(LimitViolationError):
         dyno.set_torque_limit(float("nan"))
     assert not any(m.arbitration_id in (0x600 + NODE, 0x200 + NODE) for m in _frames(tap))
+
+
+def test_an_sdo_request_left_unanswered_is_sent_again_once_and_counted(rig: Rig) -> None:
+    """A lost SDO answer (or a drive starved past the host's timeout) costs one counted repeat; two in a row
+    are a typed timeout naming the object, and the drive's value is the one set."""
+    sim, dyno, _ = rig
+    dyno.start()
+    sim.lose_sdo_requests = 1
+    dyno.set_torque_limit(40.0)
+    assert (sim.sdo_requests_lost, dyno.stats.command_retries) == (1, 1)
+    assert sim._get(c.MAX_TORQUE) == round(1000 * 40.0 / dyno.rated_torque_nm)
+    sim.lose_sdo_requests = 2
+    with pytest.raises(DeviceTimeoutError, match="no answer to write 0x6072"):
+        dyno.set_torque_limit(30.0)
+    assert (sim.sdo_requests_lost, dyno.stats.command_retries) == (3, 2)
 
 
 def test_a_drive_that_cannot_take_the_limits_is_refused_at_open() -> None:
