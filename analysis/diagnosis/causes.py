@@ -71,20 +71,11 @@ def steep_end(kind: str) -> str | None:
     return "low" if low > high else "high" if high > low else None
 
 
-#: the part of a joint's range, at either end, over which a hard stop may engage: a stop (the end of
-#: the range of motion, a hinge or a mechanical limit) acts over a few degrees, here at most 20 % of
-#: the range (9° of an ankle's 45°, 18° of a knee's 90°); a "stop" acting over more of the range is a
-#: gradual stiffening, which the baseline's exponentials describe. With stops allowed anywhere, 2 of
-#: 132 clean ankle trials of the independent generator took one at 19 % and 24 % of the range from
-#: its end (ΔBIC > 0, by held-out gain alone at 1000 Hz); that generator's stops act over the last
-#: 4–8° (≤ 17 % of an ankle's range, ≤ 9 % of a knee's)
-STOP_END_FRACTION = 0.2
-#: a joint's stop must be entered by at least this much (°) at the end of the range: a "stop" over
-#: the last degree acts only during the turnaround, on a few samples where the velocity reverses and
-#: friction, damping and a delay change sign. On clean independent trials the spurious stops that
-#: passed the tests sat 1.2° (2 trials) and 2.9° (1) from the end; that generator's stops are
-#: entered by 4–8°
-MIN_STOP_DEPTH_DEG = 2.5
+#: the rates (1/rad) of the smooth stiffening a joint's stop competes with at its end (engine._Search.smooth_rival):
+#: what passive tissue does. Published passive joint moments' exponential terms reach 0.195 /° = 11.2 /rad
+#: (Riener & Edrich 1999, ankle dorsiflexion; knee extension 0.150 /° = 8.6 /rad); the range runs to 20 /rad
+#: (an e-folding width of 2.9°) with that margin. A stiffening steeper than any passive tissue shows is a stop
+SMOOTH_END_RATES_PER_RAD = np.geomspace(2.0, 20.0, 8)
 SPLINE_KNOTS = 8                          # interior knots of the flexible baseline's spline
 #: an activation burst's physiological duration (s): a stretch reflex or a voluntary twitch lasts
 #: 0.15–2 s; longer "bursts" would absorb drift or a baseline mismatch
@@ -315,19 +306,14 @@ def _stop_grid(prep: Prepared) -> list[np.ndarray]:
     """Stop angles spread evenly over the range (not over the samples: a bend spends little time past
     its stop).
 
-    A joint's stop engages within :data:`STOP_END_FRACTION` of its range from either end and at
-    least :data:`MIN_STOP_DEPTH_DEG` before it: 20 angles at each end. The orthosis's stop is its
+    A joint's stop may sit anywhere in its range (40 angles; in the upper half it resists the top of the
+    range, in the lower half the bottom); what tells it from a steeper passive end is the data
+    (engine._Search.stop_beats_smooth_rival), not where it sits. The orthosis's stop is its
     dorsiflexion hinge stop, in the upper half of the bend (its lower end is the spring's
-    engagement, cut); the replica's springs may meet a stop anywhere. Both keep 2 % of the range
-    clear of either end."""
+    engagement, cut). Every grid keeps 2 % of the range clear of either end."""
     span = prep.hi - prep.lo
     if prep.trial.kind == "afo":
         return [np.linspace(prep.lo + 0.5 * span, prep.hi - 0.02 * span, 24)]
-    if prep.trial.kind in ("knee", "ankle"):
-        near = max(0.02 * span, np.deg2rad(MIN_STOP_DEPTH_DEG))
-        far = max(STOP_END_FRACTION * span, near)
-        return [np.concatenate([np.linspace(prep.lo + near, prep.lo + far, 20),
-                                np.linspace(prep.hi - far, prep.hi - near, 20)])]
     return [np.linspace(prep.lo + 0.02 * span, prep.hi - 0.02 * span, 40)]
 
 
@@ -437,6 +423,10 @@ SEPARATE_BY: dict[frozenset[str], str] = {
         "a trial at a second fixed hip or knee angle (gravity's phase moves, elasticity's does not)",
     frozenset({"sensor_drift", "activation_burst"}): "a repeat of the trial (a burst is not repeated, a drift is)",
 }
+
+#: what separates a joint's stop from a passive term steeper than the baseline's, when one trial cannot
+STOP_OR_STEEPER_END_HINT = ("a trial at a second fixed hip (knee) or knee (ankle) angle: a two-joint muscle's stiffening "
+                            "moves with it, a stop does not; or the joint's range measured with a goniometer")
 
 #: what a trial needs before a cause that the baseline absorbs can be seen
 UNTESTABLE_HINT: dict[str, str] = {

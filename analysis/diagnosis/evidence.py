@@ -184,19 +184,25 @@ def _blocks(n: int, folds: int) -> list[np.ndarray]:
     return [np.arange(edges[i], edges[i + 1]) for i in range(folds)]
 
 
-def heldout_rmse(prep: Prepared, cause: Cause, folds: int = 5, nonlinear: tuple[float, ...] | None = None) -> float:
-    """RMSE (N·m) of each contiguous time block predicted by the model fitted on the other blocks
-    (``nonlinear`` given: those parameters are held, only the linear coefficients are refitted)."""
-    err = []
+def heldout_residuals(prep: Prepared, cause: Cause, folds: int = 5, nonlinear: tuple[float, ...] | None = None
+                      ) -> np.ndarray:
+    """Residual (N·m) at each sample of each contiguous time block predicted by the model fitted on the other
+    blocks (``nonlinear`` given: those parameters are held, only the linear coefficients are refitted); NaN
+    where the model has no prediction."""
+    out = np.full(prep.t.size, np.nan)
     for block in _blocks(prep.t.size, folds):
         train = np.ones(prep.t.size, dtype=bool)
         train[block] = False
         fit = fit_cause(prep, cause, train, refine=False, start=nonlinear)
-        pred = fit.prediction[block]
-        ok = np.isfinite(pred)
-        err.append((prep.torque[block][ok] - pred[ok]) ** 2)
-    e = np.concatenate(err)
-    return float(np.sqrt(e.mean())) if e.size else float("nan")
+        out[block] = prep.torque[block] - fit.prediction[block]
+    return out
+
+
+def heldout_rmse(prep: Prepared, cause: Cause, folds: int = 5, nonlinear: tuple[float, ...] | None = None) -> float:
+    """RMSE (N·m) of the held-out residuals (:func:`heldout_residuals`)."""
+    e = heldout_residuals(prep, cause, folds, nonlinear)
+    e = e[np.isfinite(e)]
+    return float(np.sqrt(np.mean(e**2))) if e.size else float("nan")
 
 
 def effective_n(residual: np.ndarray) -> float:
