@@ -76,6 +76,10 @@ def steep_end(kind: str) -> str | None:
 #: (Riener & Edrich 1999, ankle dorsiflexion; knee extension 0.150 /° = 8.6 /rad); the range runs to 20 /rad
 #: (an e-folding width of 2.9°) with that margin. A stiffening steeper than any passive tissue shows is a stop
 SMOOTH_END_RATES_PER_RAD = np.geomspace(2.0, 20.0, 8)
+#: Savitzky–Golay windows (s) of the angular acceleration: the middle one is the search's; an inertia's
+#: magnitude is averaged over all three (evidence.magnitude_variants). Differentiating twice is a modelling
+#: choice: a wider window flattens the acceleration peaks at the turnarounds and reads the inertia larger
+ACCEL_WINDOWS_S = (0.075, 0.15, 0.3)
 SPLINE_KNOTS = 8                          # interior knots of the flexible baseline's spline
 #: an activation burst's physiological duration (s): a stretch reflex or a voluntary twitch lasts
 #: 0.15–2 s; longer "bursts" would absorb drift or a baseline mismatch
@@ -151,9 +155,11 @@ class Prepared:
                                    end_terms=self.end_terms + ((end, rate_per_rad),))
 
     @classmethod
-    def of(cls, trial: DiagnosisTrial, min_angle_deg: float | None = None) -> Prepared:
+    def of(cls, trial: DiagnosisTrial, min_angle_deg: float | None = None,
+           accel_window_s: float = ACCEL_WINDOWS_S[1]) -> Prepared:
         """Signals of ``trial``; ``min_angle_deg`` keeps only samples at or above that angle (velocity
-        is taken on the whole trial first, so the cut does not bend it)."""
+        is taken on the whole trial first, so the cut does not bend it); ``accel_window_s``: the
+        Savitzky–Golay window (s) of the angular acceleration."""
         grav = trial.limb_gravity_nm()
         keep = np.ones(trial.time_s.size, dtype=bool) if min_angle_deg is None else \
             trial.angle_rad >= np.deg2rad(min_angle_deg)
@@ -161,7 +167,7 @@ class Prepared:
             raise InputError(f"{trial.source or 'trial'}: {int(keep.sum())} samples at or above {min_angle_deg}°; "
                              "the diagnosis needs 50")
         th = trial.angle_rad[keep]
-        alpha = trial.savgol(trial.angle_rad, 0.15, 3, 2)
+        alpha = trial.savgol(trial.angle_rad, accel_window_s, 3, 2)
         known = grav + trial.known_inertia_kgm2() * alpha  # the limb's weight and the known moving inertia
         return cls(trial, trial.time_s[keep], th, trial.velocity_rad_s()[keep], (trial.torque_nm - known)[keep],
                    trial.savgol(trial.torque_nm, 0.15, 2)[keep], float(th.min()), float(th.max()), grav[keep],

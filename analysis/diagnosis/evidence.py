@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 
 from .causes import (
+    ACCEL_WINDOWS_S,
     CAUSES,
     FRICTION_LAWS,
     SHAPE_VARIANTS,
@@ -123,10 +124,14 @@ def magnitude_variants(prep: Prepared, cause_name: str, stop_angle_rad: float = 
       the 95 % intervals held the independent generator's truth (an arctan friction law, a Hann burst)
       for friction amplitudes in 0.57 (AFO), 0.69 (knee), 0.80 (ankle) of trials and for burst
       amplitudes in 0.78–0.80 (seeds 140000–141001).
+    - The angular acceleration's smoothing window (:data:`causes.ACCEL_WINDOWS_S`) behind an inertia.
     - A joint's stop beside a steeper passive term at its end (:data:`STEEP_END_RATE_PER_RAD`): with
       the baseline alone an ankle stop's stiffness read 19 % high (median) and its intervals held the
       truth in 0.68 of trials: the stop took Riener's plantarflexion term.
     """
+    if cause_name == "inertia":
+        return [(f"acceleration over {1000 * w:.0f} ms", Prepared.of(prep.trial, None, accel_window_s=w), {})
+                for w in ACCEL_WINDOWS_S]
     if cause_name in SHAPE_VARIANTS:
         return [(shape, prep, {cause_name: make()}) for shape, make in SHAPE_VARIANTS[cause_name].items()]
     if cause_name == "hard_stop" and prep.trial.kind in ("knee", "ankle") and math.isfinite(stop_angle_rad):
