@@ -17,6 +17,7 @@ BENCHMARKS = {"drivers": "benchmarks.drivers", "pmp_opensim": "benchmarks.pmp_op
               "afo_model_diagnosis": "benchmarks.afo_model_diagnosis",
               "diagnosis_stops": "benchmarks.diagnosis_stops", "diagnosis_input": "benchmarks.diagnosis_input",
               "diagnosis_family_b": "benchmarks.diagnosis_family_b",
+              "diagnosis_family_c": "benchmarks.diagnosis_family_c",
               "pmp_realistic": "benchmarks.pmp_realistic", "lsl": "benchmarks.lsl"}
 
 
