@@ -5,23 +5,26 @@ al. 2016) on a library of the baseline's own columns (never thresholded: ``spars
 candidate terms only) plus terms for every cause the diagnosis can name:
 
 - Coulomb friction ``tanh(ω / 1°/s)``; viscous damping ``ω``; drift ``t``;
-- a hard stop: hinges ``max(θ − θ_k, 0)`` at 2, 4, 6 and 8° inside the upper end of the range and
-  ``max(θ_k − θ, 0)`` inside the lower end;
+- a hard stop: hinges at 12 angles spread over the whole range (2–98 %), resisting the top of the range
+  in its upper half and the bottom in its lower half, where the diagnosis searches its stops;
 - a delay of the torque channel ``−dτ/dt`` (Savitzky–Golay derivative of the measured torque, so
   ``τ(t − d) ≈ τ(t) − d τ̇``);
 - an activation burst: raised-cosine bumps 0.8 s long every 0.4 s;
 - a limb-weight error (knee and ankle): the limb's gravity shape.
 
-Each column is scaled by its largest magnitude, so a coefficient is the term's peak contribution in
-N·m and the threshold is in N·m. The threshold is chosen by blocked cross-validation (the trial cut
+Each column is scaled to unit RMS, so every candidate meets the threshold on equal terms (scaled to unit
+peak, a hinge or a bump with its energy in a few samples needed a far larger coefficient than a sustained
+term of the same energy). The threshold is chosen by blocked cross-validation (the trial cut
 into 2 s blocks, longer than the noise's correlation, dealt round-robin into 5 folds; each fold
 predicted from a fit on the other four: five contiguous fifths would make every fold extrapolate a
-sweep segment the fit never saw) over a grid from 0.1 % to 100 % of the torque's SD: at the minimum of the held-out error, and,
-as the one-standard-error
-variant, the largest threshold whose error is within one standard error of that minimum. A cause is
-named when any of its terms survives. Data are block-averaged to at most 50 Hz first (the effects
-are below 5 Hz), rows with a NaN are dropped; a term the baseline columns reproduce (R² > 0.999)
-is left out, as the diagnosis reports such a cause untestable rather than naming it.
+sweep segment the fit never saw) over a grid from 0.1 % to 100 % of the torque's SD: at the minimum of
+the held-out error, and, as the one-standard-error variant, the largest threshold whose error is within
+one standard error of that minimum. A cause is named when its surviving terms are jointly significant:
+the F test of the support with and without them at the 1 % level, the residual's degrees of freedom
+counted at its effective sample size (AR(1): n(1 − ρ)/(1 + ρ)), not when any one term survives. Data
+are block-averaged to at most 50 Hz first (the effects are below 5 Hz), rows with a NaN are dropped; a
+term the baseline columns reproduce (R² > 0.999) is left out, as the diagnosis reports such a cause
+untestable rather than naming it.
 
 Nothing here is imported by the instrument; it is the reference the diagnosis benchmark measures
 against in the same run.
@@ -33,6 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.signal import savgol_filter
+from scipy.stats import f as f_dist
 
 from analysis.diagnosis import DiagnosisTrial
 from analysis.diagnosis.causes import baseline_columns
@@ -45,7 +49,9 @@ BLOCK_S = 2.0
 MIN_TRAIN_ENERGY = 0.5
 MAX_RATE_HZ = 50.0
 FRICTION_WIDTH_RAD_S = np.deg2rad(1.0)
-STOP_INSETS_DEG = (2.0, 4.0, 6.0, 8.0)
+STOP_HINGES = 12
+#: the joint significance (F test, 1 %) a cause's surviving terms need before the peer names it
+NAMING_P = 0.01
 BUMP_DURATION_S, BUMP_SPACING_S = 0.8, 0.4
 THRESHOLD_FRACTIONS = np.concatenate([[0.0], np.logspace(-3, 0, 16)])
 #: a candidate term the baseline reproduces to this R² is left out (it cannot be told from the baseline)
@@ -90,9 +96,9 @@ def library(trial: DiagnosisTrial) -> tuple[np.ndarray, np.ndarray, np.ndarray, 
     lo, hi = float(th[keep].min()), float(th[keep].max())
     cols: list[np.ndarray] = [np.tanh(omega / FRICTION_WIDTH_RAD_S), omega, t - t.mean()]
     names = ["coulomb_friction", "viscous_damping", "sensor_drift"]
-    for inset in np.deg2rad(STOP_INSETS_DEG):
-        cols += [np.maximum(th - (hi - inset), 0.0), np.maximum((lo + inset) - th, 0.0)]
-        names += ["hard_stop", "hard_stop"]
+    for stop in np.linspace(lo + 0.02 * (hi - lo), hi - 0.02 * (hi - lo), STOP_HINGES):
+        cols.append(np.maximum(th - stop, 0.0) if stop >= 0.5 * (lo + hi) else np.maximum(stop - th, 0.0))
+        names.append("hard_stop")
     cols.append(-dtau)
     names.append("time_delay")
     if trial.kind != "afo":
@@ -104,7 +110,7 @@ def library(trial: DiagnosisTrial) -> tuple[np.ndarray, np.ndarray, np.ndarray, 
         names.append("gravity_error")
     base = baseline_columns(trial.kind, th, lo, hi)
     x = np.column_stack([base, *cols])[keep]
-    scale = np.abs(x).max(axis=0)
+    scale = np.sqrt(np.mean(x**2, axis=0))
     usable = scale > 1e-12
     usable[: base.shape[1]] = True
     b = x[:, : base.shape[1]]
@@ -166,9 +172,33 @@ def diagnose_sparse(trial: DiagnosisTrial) -> PeerResult:
 
     r_all, z_all = _compressed(x, y)
 
+    def rss(support: np.ndarray) -> float:
+        coef = np.linalg.lstsq(x[:, support], y, rcond=None)[0]
+        return float(np.sum((y - x[:, support] @ coef) ** 2))
+
     def named(lam: float) -> frozenset[str]:
-        coef = _fit(r_all, z_all, n_base, lam)[n_base:]
-        return frozenset(n for n, c in zip(names, coef, strict=True) if c != 0.0)
+        coef = _fit(r_all, z_all, n_base, lam)
+        support = coef != 0.0
+        support[:n_base] = True
+        resid = y - x @ coef
+        rho = float(np.clip(np.corrcoef(resid[:-1], resid[1:])[0, 1], 0.0, 0.99)) if resid.size > 3 else 0.0
+        n_eff = resid.size * (1 - rho) / (1 + rho)
+        dof = n_eff - int(support.sum())
+        full = float(resid @ resid)
+        out = set()
+        for cause in {n for n, c in zip(names, coef[n_base:], strict=True) if c != 0.0}:
+            mine = np.zeros(x.shape[1], dtype=bool)
+            mine[n_base:] = [n == cause and c != 0.0 for n, c in zip(names, coef[n_base:], strict=True)]
+            q = int(mine.sum())
+            if dof <= 1 or full <= 0:
+                continue
+            # the naive F (σ² from the residual per sample) deflated by n_eff / n: correlated noise makes a
+            # sum-of-squares difference n / n_eff times as variable as independent noise would
+            sigma2 = full / max(resid.size - int(support.sum()), 1)
+            f_stat = (rss(support & ~mine) - full) / q / sigma2 * (n_eff / resid.size)
+            if f_dist.sf(f_stat, q, dof) < NAMING_P:
+                out.add(cause)
+        return frozenset(out)
 
     every = set(CAUSES) - (set() if trial.kind != "afo" else {"activation_burst", "gravity_error"})
     return PeerResult(named(float(thresholds[best])), named(float(thresholds[best_1se])),
