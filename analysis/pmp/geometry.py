@@ -116,6 +116,11 @@ class SplineGrid:
         self._functions: dict[str, Any] = {}
         self._maps: dict[tuple[str, int], Any] = {}
 
+    def __getstate__(self) -> dict[str, Any]:
+        """The grid without its CasADi functions (rebuilt on first use): a pickled leg for a worker process
+        is then kilobytes, not the 124 MB its compiled interpolants and maps take."""
+        return {**self.__dict__, "_functions": {}, "_maps": {}}
+
     def _function(self, what: str) -> Any:
         """The interpolant, continued linearly outside the grid (a B-spline is zero past its last knot)."""
         if what not in self._functions:

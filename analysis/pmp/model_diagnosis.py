@@ -351,9 +351,92 @@ def held_out_folds(trials: list[PmpTrial], points: int = 60) -> list[Fold]:
     return out
 
 
+#: the most processes the model-level diagnosis fits its folds in (each fit is one IPOPT solve on one core)
+MAX_FIT_WORKERS = 2
+
+
+def fit_workers() -> int:
+    """Processes for the folds' fits: one per core this process may use, at most :data:`MAX_FIT_WORKERS`."""
+    import os
+
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    return max(1, min(MAX_FIT_WORKERS, cores))
+
+
+_WORKER: dict[str, Any] = {}
+
+
+def _worker_init(trials: list[PmpTrial], subject: Subject, leg: LegMuscles, intervals: int,
+                 initial: dict[str, float]) -> None:
+    _WORKER.update(trials=trials, subject=subject, leg=leg, intervals=intervals, initial=initial)
+
+
+def _fold_fit(job: tuple[str | None, Fold], context: dict[str, Any] | None = None) -> tuple[float, dict[str, float]]:
+    """(held-out RMSE in N·m, the extension's parameters) of one model fitted without one fold (``context``:
+    the trials, subject, leg, intervals and start; default the worker process's)."""
+    key, fold = job
+    w = _WORKER if context is None else context
+    trials, subject, leg = w["trials"], w["subject"], w["leg"]
+    ext = EXTENSIONS[key] if key else None
+    fit = estimate([trials[j] for j in fold.fitted], subject, leg=leg, intervals=w["intervals"], extension=ext,
+                   initial=w["initial"],
+                   held_out_s=[list(win) for win in fold.held_out_s] if fold.held_out_s is not None else None)
+    sq = []
+    for j, idx in fold.predicted.items():
+        _, pred = predict_torque_nm(fit, trials[j], subject, leg, ext, indices=idx)
+        sq.append((trials[j].torque_nm[idx] - pred) ** 2)
+    return float(np.sqrt(np.mean(np.concatenate(sq)))), dict(fit.extension_parameters)
+
+
+def _full_fit(key: str, context: dict[str, Any] | None = None) -> tuple[dict[str, float], dict[str, float]]:
+    """(the extension's parameters, the muscle parameters) of one extended model fitted on every trial."""
+    w = _WORKER if context is None else context
+    fit = estimate(w["trials"], w["subject"], leg=w["leg"], intervals=w["intervals"], extension=EXTENSIONS[key],
+                   initial=w["initial"])
+    return dict(fit.extension_parameters), dict(fit.parameters)
+
+
+class _FitPool:
+    """The model-level diagnosis's fits, in worker processes (spawned: CasADi and its threads are not forked)
+    or here. A worker gets the trials, the subject and the leg once (the leg pickles without its compiled
+    CasADi functions) and each fit as an extension's name and a fold."""
+
+    def __init__(self, trials: list[PmpTrial], subject: Subject, leg: LegMuscles, intervals: int,
+                 initial: dict[str, float], workers: int | None) -> None:
+        self.args = (trials, subject, leg, intervals, dict(initial))
+        self.workers = fit_workers() if workers is None else max(1, workers)
+        self.pool: Any = None
+        trials_, subject_, leg_, intervals_, initial_ = self.args
+        self.context = {"trials": trials_, "subject": subject_, "leg": leg_, "intervals": intervals_,
+                        "initial": initial_}
+
+    def __enter__(self) -> _FitPool:
+        if self.workers > 1:
+            import multiprocessing
+            from concurrent.futures import ProcessPoolExecutor
+
+            self.pool = ProcessPoolExecutor(self.workers, mp_context=multiprocessing.get_context("spawn"),
+                                            initializer=_worker_init, initargs=self.args)
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        if self.pool is not None:
+            self.pool.shutdown(cancel_futures=True)
+
+    def fold_fits(self, jobs: list[tuple[str | None, Fold]]) -> list[tuple[float, dict[str, float]]]:
+        if self.pool is None:
+            return [_fold_fit(j, self.context) for j in jobs]
+        return list(self.pool.map(_fold_fit, jobs))
+
+    def full_fits(self, keys: list[str]) -> list[tuple[dict[str, float], dict[str, float]]]:
+        if self.pool is None:
+            return [_full_fit(k, self.context) for k in keys]
+        return list(self.pool.map(_full_fit, keys))
+
+
 def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None = None, intervals: int = 24,
                    candidates: list[str] | None = None, max_heldout_ratio: float = 0.9,
-                   plain: PmpResult | None = None) -> ModelDiagnosis:
+                   plain: PmpResult | None = None, workers: int | None = None) -> ModelDiagnosis:
     """Try every candidate extension inside the estimator and judge it by leave-one-condition-out prediction.
 
     Parameters
@@ -367,6 +450,9 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
         An extension is named when its pooled held-out RMSE is below this fraction of the plain model's.
     plain
         The plain model's fit on all trials, if already made.
+    workers
+        Processes fitting the folds side by side (default: :func:`fit_workers`); 1 fits them here, one after
+        another. The fits are the same either way (each is deterministic and independent of the others).
     """
     from ..errors import InputError
 
@@ -387,34 +473,27 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
         idx, pred = predict_torque_nm(plain_fit, t, subject, leg)
         in_sample.append((t.torque_nm[idx] - pred) ** 2)
     in_sample_rms = float(np.sqrt(np.mean(np.concatenate(in_sample))))
-    for ext in models:
-        key = ext.name if ext else "none"
-        errs: dict[str, float] = {}
-        fold_params[key] = []
-        for fold in folds:
-            fit = estimate([trials[j] for j in fold.fitted], subject, leg=leg, intervals=intervals, extension=ext,
-                           initial=plain_fit.parameters,
-                           held_out_s=[list(w) for w in fold.held_out_s] if fold.held_out_s is not None else None)
-            sq = []
-            for j, idx in fold.predicted.items():
-                _, pred = predict_torque_nm(fit, trials[j], subject, leg, ext, indices=idx)
-                sq.append((trials[j].torque_nm[idx] - pred) ** 2)
-            errs[fold.label] = float(np.sqrt(np.mean(np.concatenate(sq))))
-            fold_params[key].append(dict(fit.extension_parameters))
-        heldout[key] = errs
-        if ext is None and pooled(errs) > INCONCLUSIVE_FACTOR * in_sample_rms:
-            base = pooled(errs)  # the plain model's folds already show the trials cannot judge an extension
-            return ModelDiagnosis("none", base, errs, [],
-                                  f"inconclusive: the trials do not predict each other (held-out {base:.3g} N·m against "
-                                  f"{in_sample_rms:.3g} N·m in sample): a left-out condition's muscles are not determined "
-                                  "by the other conditions; record each condition at least twice so repeats can be left "
-                                  "out", [f.label for f in folds], conclusive=False)
+    with _FitPool(trials, subject, leg, intervals, plain_fit.parameters, workers) as pool:
+        for batch in ([None], models[1:]):
+            keys = [ext.name if ext else None for ext in batch]
+            jobs = [(key, fold) for key in keys for fold in folds]
+            for (key, fold), (rms, ext_params) in zip(jobs, pool.fold_fits(jobs), strict=True):
+                heldout.setdefault(key or "none", {})[fold.label] = rms
+                fold_params.setdefault(key or "none", []).append(ext_params)
+            if batch == [None] and pooled(heldout["none"]) > INCONCLUSIVE_FACTOR * in_sample_rms:
+                base = pooled(heldout["none"])  # the plain model's folds already show the trials cannot judge an extension
+                return ModelDiagnosis("none", base, heldout["none"], [],
+                                      f"inconclusive: the trials do not predict each other (held-out {base:.3g} N·m "
+                                      f"against {in_sample_rms:.3g} N·m in sample): a left-out condition's muscles are not "
+                                      "determined by the other conditions; record each condition at least twice so "
+                                      "repeats can be left out", [f.label for f in folds], conclusive=False)
+        full_fits = dict(zip(names, pool.full_fits(names), strict=True))
 
     base = pooled(heldout["none"])
     findings = []
     for ext in models[1:]:
         assert ext is not None
-        full = estimate(trials, subject, leg=leg, intervals=intervals, extension=ext, initial=plain_fit.parameters)
+        full_ext_params, full_params = full_fits[ext.name]
         k = len(folds)
         # the jackknife over k folds has k − 1 degrees of freedom: with two repeats the 97.5 % point is
         # 12.7, not 1.96 (at 1.96 a 0.05 N·m knee offset on clean OpenSim trials looked significant)
@@ -423,14 +502,14 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
         for p in ext.parameters:
             vals = np.array([fp[p] for fp in fold_params[ext.name]])
             se = math.sqrt((k - 1) / k * float(np.sum((vals - vals.mean()) ** 2)))
-            ci[p] = (full.extension_parameters[p] - t975 * se, full.extension_parameters[p] + t975 * se)
-        shift = {n: 100.0 * (full.parameters[n] / plain_fit.parameters[n] - 1.0) for n in plain_fit.parameters}
+            ci[p] = (full_ext_params[p] - t975 * se, full_ext_params[p] + t975 * se)
+        shift = {n: 100.0 * (full_params[n] / plain_fit.parameters[n] - 1.0) for n in plain_fit.parameters}
         rmse = pooled(heldout[ext.name])
         # the ratio is the geometric mean of the folds' ratios: one fold whose left-out trial is badly
         # extrapolated must not outweigh the others
         ratios = [heldout[ext.name][k] / heldout["none"][k] for k in heldout["none"] if heldout["none"][k] > 0]
         findings.append(ExtensionFinding(ext.name, rmse, float(np.exp(np.mean(np.log(ratios)))) if ratios else float("nan"),
-                                         dict(full.extension_parameters), ci, shift, heldout[ext.name]))
+                                         dict(full_ext_params), ci, shift, heldout[ext.name]))
         findings[-1].every_fold_better = bool(ratios) and all(r < 1.0 for r in ratios)
     passing = [f for f in findings if f.heldout_ratio < max_heldout_ratio and f.every_fold_better]
     close: list[str] = []
