@@ -18,7 +18,9 @@ its interval holding the truth; a clean case is right when nothing is named and 
 is reported absorbed.
 
 Keys: ``cases`` (per case: hidden, truth, verdict, named, absorbed, interval, covered, held-out
-ratio, seconds), ``right``, ``covered``, ``seconds_per_case``.
+ratio, seconds), ``right``, ``covered``, ``seconds_per_case`` (the fits in :func:`fit_workers` processes),
+``seconds_first_case_one_process`` and ``speedup_first_case`` (the first case again with every fit in this
+process: the reference, measured in the same run).
 """
 
 from __future__ import annotations
@@ -29,7 +31,7 @@ from typing import Any
 import numpy as np
 
 from analysis.pmp.estimator import PmpTrial, Subject
-from analysis.pmp.model_diagnosis import diagnose_model, is_material
+from analysis.pmp.model_diagnosis import diagnose_model, fit_workers, is_material
 from analysis.pmp.muscles import LegMuscles, scale_for_subject
 
 from .opensim_truth import draw_truth, generic_parameters, limb_weight_nm, make_trials
@@ -132,9 +134,19 @@ def run(quick: bool = False) -> dict[str, Any]:
         print(f"{effect:<18}{truth:>9.3g}  {verdict + ('' if d.cause == 'none' else ' ' + d.cause):<10}{fitted:<30}"
               f"{str(row.get('covered', '—')):>8}{row.get('heldout_ratio', 1.0):>7.2f}{seconds:>6.0f}")
         print("    " + d.message[:300])
+    # the reference in the same run: the first case again with every fit in this process, one after another
+    trials, _ = hide(made, effects[0], np.random.default_rng([seed, 0]))
+    t0 = time.perf_counter()
+    one = diagnose_model(trials, subject, leg=leg, intervals=10 if quick else 12, candidates=CANDIDATES, workers=1)
+    one_s = time.perf_counter() - t0
     out = {"quick": quick, "seed": seed, "cases": cases, "right": sum(c["right"] for c in cases) / len(cases),
            "covered": float(np.mean([c["covered"] for c in cases if "covered" in c])) if len(cases) > 1 else float("nan"),
-           "seconds_per_case": float(np.mean([c["seconds"] for c in cases]))}
+           "seconds_per_case": float(np.mean([c["seconds"] for c in cases])),
+           "fit_workers": fit_workers(), "seconds_first_case_one_process": one_s,
+           "speedup_first_case": one_s / cases[0]["seconds"],
+           "same_answer_one_process": one.cause == cases[0]["named"]}
     print(f"\nright {out['right']:.2f} of {len(cases)} cases; intervals holding the truth {out['covered']:.2f}; "
-          f"{out['seconds_per_case']:.0f} s per case")
+          f"{out['seconds_per_case']:.0f} s per case; the first case in one process {one_s:.0f} s "
+          f"({out['speedup_first_case']:.2f}× slower than with {out['fit_workers']} workers; same answer: "
+          f"{out['same_answer_one_process']})")
     return out
