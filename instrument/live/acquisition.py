@@ -86,7 +86,8 @@ class DeviceReport:
 
 def device_health_text(name: str, state: str, stats: DeviceStats) -> str:
     """One device's part of the operator's health line: state, rate, gaps and lost samples, and, when
-    there were any, unanswered polls (a slow host or a silent line) apart from bad frames (a damaged line)."""
+    there were any, unanswered polls (a slow host or a silent line) apart from bad frames (a damaged line), and
+    commands the device answered only on a repeat (a lost reply: the operator sees it, nothing hides it)."""
     rate = stats.rate_hz()
     if not np.isfinite(rate):
         return f"{name}: {state}"
@@ -96,6 +97,8 @@ def device_health_text(name: str, state: str, stats: DeviceStats) -> str:
     bad = stats.crc_errors + stats.malformed_frames
     if bad:
         text += f", {bad} bad frames"
+    if stats.command_retries:
+        text += f", {stats.command_retries} commands answered only when sent again"
     return text
 
 

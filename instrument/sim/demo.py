@@ -78,6 +78,7 @@ def _row(name: str, res: StreamResult, lab: SimulatedLab) -> dict[str, Any]:
     return {"device": name, "samples": res.samples, "rate_hz": rate, "gaps": st["gaps"],
             "lost_samples": st["lost_samples"], "crc_errors": st["crc_errors"],
             "malformed_frames": st["malformed_frames"], "poll_timeouts": st["poll_timeouts"],
+            "command_retries": st["command_retries"],
             "errors_reported": len(res.errors),
             "wire_limit_ratio": rate / _wire_limit_hz(name, lab) if math.isfinite(rate) else float("nan")}
 
@@ -96,10 +97,11 @@ def _print_table(rows: list[dict[str, Any]], title: str) -> None:
     """The streams' table: a measurement of this host's timing (on stderr, see :func:`_measured`)."""
     _measured(f"\n{title} (measured on this host)")
     _measured(f"{'device':<14}{'samples':>9}{'rate Hz':>10}{'gaps':>6}{'lost':>7}{'CRC err':>9}{'malformed':>11}"
-              f"{'no reply':>10}{'wire use':>10}")
+              f"{'no reply':>10}{'repeats':>9}{'wire use':>10}")
     for r in rows:
         _measured(f"{r['device']:<14}{r['samples']:>9}{r['rate_hz']:>10.1f}{r['gaps']:>6}{r['lost_samples']:>7}"
-                  f"{r['crc_errors']:>9}{r['malformed_frames']:>11}{r['poll_timeouts']:>10}{r['wire_limit_ratio']:>10.3f}")
+                  f"{r['crc_errors']:>9}{r['malformed_frames']:>11}{r['poll_timeouts']:>10}{r['command_retries']:>9}"
+                  f"{r['wire_limit_ratio']:>10.3f}")
 
 
 def physics_summary(results: dict[str, StreamResult]) -> dict[str, float]:

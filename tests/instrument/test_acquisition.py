@@ -82,4 +82,7 @@ def test_the_health_line_tells_unanswered_polls_from_bad_frames() -> None:
     assert device_health_text("torque_sensor", "connected", st) == "torque_sensor: connected, 100 Hz, 2 gaps, 3 lost"
     st.poll_timeouts, st.crc_errors, st.malformed_frames = 2, 1, 0
     assert device_health_text("torque_sensor", "connected", st).endswith("3 lost, 2 unanswered polls, 1 bad frames")
+    st.command_retries = 1  # a START whose reply was lost: sent again, and the operator is told
+    assert device_health_text("torque_sensor", "connected", st).endswith(
+        "1 bad frames, 1 commands answered only when sent again")
     assert device_health_text("mocap", "closed", DeviceStats()) == "mocap: closed"
