@@ -61,16 +61,6 @@ END_EXP_RATES_PER_RAD: dict[str, tuple[tuple[float, ...], tuple[float, ...]]] = 
     "ankle": ((), (3.0, 9.0)),
 }
 
-def steep_end(kind: str) -> str | None:
-    """The end of a joint's range (``"low"`` or ``"high"``) where its passive moment stiffens steeply (the
-    baseline's steepest exponential sits there); None for a kind without one (the orthosis's spring)."""
-    ends = END_EXP_RATES_PER_RAD.get(kind)
-    if not ends:
-        return None
-    low, high = (max(rates, default=0.0) for rates in ends)
-    return "low" if low > high else "high" if high > low else None
-
-
 #: the rates (1/rad) of the smooth stiffening a joint's stop competes with at its end (engine._Search.smooth_rival):
 #: what passive tissue does. Published passive joint moments' exponential terms reach 0.195 /° = 11.2 /rad
 #: (Riener & Edrich 1999, ankle dorsiflexion; knee extension 0.150 /° = 8.6 /rad); the range runs to 20 /rad
