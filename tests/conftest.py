@@ -7,6 +7,9 @@ import os
 import pytest
 
 os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
+# the suite already runs three workers on two cores: a model-level diagnosis spawning two more fitting
+# processes only adds contention and interpreter start-ups (one test asks for two workers explicitly)
+os.environ.setdefault("INSTRUMENT_FIT_WORKERS", "1")
 # liblsl's warnings only (the instrument's own setting; tests that import pylsl first would get INFO lines)
 os.environ.setdefault("LSLAPICFG", os.path.join(os.path.dirname(__file__), "..", "drivers", "lsl", "lsl_api.cfg"))
 

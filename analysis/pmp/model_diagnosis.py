@@ -356,13 +356,16 @@ MAX_FIT_WORKERS = 2
 
 
 def fit_workers() -> int:
-    """Processes for the folds' fits: one per core this process may use, at most :data:`MAX_FIT_WORKERS`; 1
+    """Processes for the folds' fits: ``INSTRUMENT_FIT_WORKERS`` if set (a host already busy with other
+    processes: 1 fits here), else one per core this process may use, at most :data:`MAX_FIT_WORKERS`; 1
     (fit here) inside a daemonic process (a pool's worker), which may not start children."""
     import multiprocessing
     import os
 
     if multiprocessing.current_process().daemon:
         return 1
+    if os.environ.get("INSTRUMENT_FIT_WORKERS", "").strip():
+        return max(1, int(os.environ["INSTRUMENT_FIT_WORKERS"]))
 
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
     return max(1, min(MAX_FIT_WORKERS, cores))
