@@ -203,13 +203,6 @@ def heldout_residuals(prep: Prepared, cause: Cause, folds: int = 5, nonlinear: t
     return out
 
 
-def heldout_rmse(prep: Prepared, cause: Cause, folds: int = 5, nonlinear: tuple[float, ...] | None = None) -> float:
-    """RMSE (N·m) of the held-out residuals (:func:`heldout_residuals`)."""
-    e = heldout_residuals(prep, cause, folds, nonlinear)
-    e = e[np.isfinite(e)]
-    return float(np.sqrt(np.mean(e**2))) if e.size else float("nan")
-
-
 def effective_n(residual: np.ndarray) -> float:
     """n / τ, τ = 1 + 2 Σ ρ_k the integrated autocorrelation time of the residual, summed until ρ_k first
     turns negative (the initial-positive-sequence estimator used for MCMC effective sample sizes).

@@ -374,9 +374,8 @@ def fit_workers() -> int:
 _WORKER: dict[str, Any] = {}
 
 
-def _worker_init(trials: list[PmpTrial], subject: Subject, leg: LegMuscles, intervals: int,
-                 initial: dict[str, float]) -> None:
-    _WORKER.update(trials=trials, subject=subject, leg=leg, intervals=intervals, initial=initial)
+def _worker_init(context: dict[str, Any]) -> None:
+    _WORKER.update(context)
 
 
 def _fold_fit(job: tuple[str | None, Fold], context: dict[str, Any] | None = None) -> tuple[float, dict[str, float]]:
@@ -411,12 +410,10 @@ class _FitPool:
 
     def __init__(self, trials: list[PmpTrial], subject: Subject, leg: LegMuscles, intervals: int,
                  initial: dict[str, float], workers: int | None) -> None:
-        self.args = (trials, subject, leg, intervals, dict(initial))
+        self.context = {"trials": trials, "subject": subject, "leg": leg, "intervals": intervals,
+                        "initial": dict(initial)}
         self.workers = fit_workers() if workers is None else max(1, workers)
         self.pool: Any = None
-        trials_, subject_, leg_, intervals_, initial_ = self.args
-        self.context = {"trials": trials_, "subject": subject_, "leg": leg_, "intervals": intervals_,
-                        "initial": initial_}
 
     def __enter__(self) -> _FitPool:
         if self.workers > 1:
@@ -424,7 +421,7 @@ class _FitPool:
             from concurrent.futures import ProcessPoolExecutor
 
             self.pool = ProcessPoolExecutor(self.workers, mp_context=multiprocessing.get_context("spawn"),
-                                            initializer=_worker_init, initargs=self.args)
+                                            initializer=_worker_init, initargs=(self.context,))
         return self
 
     def __exit__(self, *exc: object) -> None:
