@@ -603,6 +603,7 @@ class MainWindow(QtWidgets.QMainWindow):
                 else:
                     self.verdict.setText(f"Trial finished ({snap.outcome.status if snap.outcome else '?'}). "
                                          + (f"Suggest repeat: {why}." if why else "Accept, or reject and repeat."))
+                self._reset_checklist()  # any end (done, e-stop, failure) unticks it: the next trial is confirmed anew
                 self._update_buttons()
             elif snap.phase == "running" and snap.alarms:
                 a = snap.alarms[-1]

@@ -121,6 +121,8 @@ def test_escape_is_an_emergency_stop_that_reaches_the_dynamometer(qtbot, window:
     assert "emergency_stop" in [e["kind"] for e in read_trial(rec.path).events]
     assert "emergency stop" in (window.runner.suggested_rejection() or "")
     assert window.banner.isVisible() and "EMERGENCY STOP confirmed by the dynamometer" in window.banner_text.text()
+    qtbot.waitUntil(lambda: not window.checklist.complete, timeout=5000)  # the e-stop's end unticks the checklist
+    assert not window.start_button.isEnabled()
 
 
 def test_aads_trial_draws_the_loop_and_checks_the_fit_window(qtbot, window: MainWindow, tmp_path: Path) -> None:
