@@ -127,12 +127,14 @@ def make_trials(truth: dict[str, dict[str, float]], seed: int, *, variant: str =
                 shank_m: float = 0.3965, foot_m: float = 0.26, torque_noise_nm: float = 0.1,
                 angle_noise_deg: float = 0.1, max_torque_nm: float = 150.0,
                 limit_forces: dict[str, dict[str, float]] | None = None,
-                unmodelled_muscles: bool = False, set_angle_errors_rad: list[float] | None = None) -> list[TruthTrial]:
+                unmodelled_muscles: bool = False, set_angle_errors_rad: list[float] | None = None,
+                compliant_knee_tendons: bool | None = None, activation: float | None = None) -> list[TruthTrial]:
     """The six sweeps of one subject with ``truth`` parameters (OpenSim-made passive moments); with
     ``limit_forces`` OpenSim's ``CoordinateLimitForce`` at those coordinates' range ends, with
     ``unmodelled_muscles`` the passive forces of every other muscle crossing knee or ankle
     (:mod:`benchmarks.opensim_passive`); with ``set_angle_errors_rad`` (one per sweep) the fixed joint (hip
-    for the knee sweeps, knee for the ankle ones) truly sits that far from the angle the trial records."""
+    for the knee sweeps, knee for the ankle ones) truly sits that far from the angle the trial records;
+    ``compliant_knee_tendons`` and ``activation`` (every muscle's) each on their own (default: the variant's)."""
     rng = np.random.default_rng(10_000 + seed)
     plan = sweeps()
     poses, spans = [], []
@@ -150,7 +152,8 @@ def make_trials(truth: dict[str, dict[str, float]], seed: int, *, variant: str =
             pose[joint] = float(q)
             poses.append(pose)
     request = {"model": str(model_path()), "parameters": truth, "poses": poses,
-               "compliant_knee_tendons": variant == "realistic", "activation": 0.01 if variant == "realistic" else 0.0,
+               "compliant_knee_tendons": variant == "realistic" if compliant_knee_tendons is None else compliant_knee_tendons,
+               "activation": (0.01 if variant == "realistic" else 0.0) if activation is None else activation,
                "limit_forces": limit_forces or {}, "unmodelled_muscles": unmodelled_muscles}
     answer = opensim(request)
     trials = []

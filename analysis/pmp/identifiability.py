@@ -147,7 +147,8 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     def model_u_of(t: PmpTrial, use_leg: LegMuscles, fixed: dict[str, float], mass_kg: float) -> Any:
         tt = PmpTrial(t.joint, fixed, t.time_s, t.angle_rad, t.velocity_rad_s, t.torque_nm, t.name)
         q_joint = extension.joint_angle(tt, q, ext_par) if extension is not None else q
-        moment = eliminate_tendons(*muscles_moment(use_leg, tt, q_joint, par), [q, prel, erel])
+        options = extension.muscle_options(tt, ext_par) if extension is not None else {}
+        moment = eliminate_tendons(*muscles_moment(use_leg, tt, q_joint, par, **options), [q, prel, erel])
         if extension is not None and extension.angle is not None:  # virtual work, as in the fit
             moment = moment * ca.jacobian(q_joint, q)
         body = Subject(mass_kg, subject.shank_length_m, subject.foot_length_m, subject.arm_inertia_kgm2)

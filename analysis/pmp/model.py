@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from ..constants import GRAVITY_M_S2
-from .curves import passive_fiber_force, tendon_force
+from .curves import active_fiber_force, passive_fiber_force, tendon_force
 from .geometry import MUSCLES
 from .muscles import COMPLIANT, LegMuscles
 
@@ -147,35 +147,41 @@ def path_taylor(leg: LegMuscles, trial: PmpTrial, anchors_rad: np.ndarray) -> tu
 
 
 def muscle_moment(leg: LegMuscles, m: str, joint: str, q: dict[str, Any], ls: Any, strain: Any, lt_norm: Any,
-                   path: tuple[Any, Any] | None = None, fiber_strain: Any = None) -> tuple[Any, Any]:
+                   path: tuple[Any, Any] | None = None, fiber_strain: Any = None, activation: Any = 0.0) -> tuple[Any, Any]:
     """(moment toward positive angle, equilibrium residual or None) of one muscle in CasADi;
-    ``path`` (length, moment arm) replaces the leg's path evaluated at ``q``; ``strain`` is the
-    tendon's ε_T0 for a compliant muscle (its fibre's ε₀ is ``fiber_strain``, default the leg's),
-    the fibre's ε₀ otherwise."""
+    ``path`` (length, moment arm) replaces the leg's path evaluated at ``q``. With a tendon length
+    ``lt_norm`` (a symbol: the tendon is compliant) ``strain`` is the tendon's ε_T0 and the fibre's ε₀ is
+    ``fiber_strain`` (default the leg's); with ``lt_norm`` None the tendon is rigid and ``strain`` is the
+    fibre's ε₀. ``activation`` (0–1) adds the isometric active force a·f_L(l̃_M) to the fibre's passive force."""
     import casadi as ca
 
     p = leg.paths[m]
     lo = leg.optimal_fiber_length_m(m)
     h = lo * np.sin(p.pennation_at_optimal_rad)
     lmt, r = path if path is not None else (leg.path_length_m(m, **q), leg.moment_arm_m(m, joint, **q))
-    if m in COMPLIANT:
+    if lt_norm is not None:
         lt = lt_norm * ls
         along = lmt - lt
         lm = ca.sqrt(along**2 + h**2)
         eps0 = leg.params[m].passive_strain if fiber_strain is None else fiber_strain
-        res = passive_fiber_force(lm / lo, eps0) * along / lm - tendon_force(lt_norm, strain)
+        fibre = passive_fiber_force(lm / lo, eps0) + activation * active_fiber_force(lm / lo)
+        res = fibre * along / lm - tendon_force(lt_norm, strain)
         return r * p.max_isometric_force_n * tendon_force(lt_norm, strain), res
     along = lmt - ls
     lm = ca.sqrt(along**2 + h**2)
-    return r * p.max_isometric_force_n * passive_fiber_force(lm / lo, strain) * along / lm, None
+    fibre = passive_fiber_force(lm / lo, strain) + activation * active_fiber_force(lm / lo)
+    return r * p.max_isometric_force_n * fibre * along / lm, None
 
 
 def muscles_moment(leg: LegMuscles, trial: PmpTrial, q: Any, par: dict[str, Any],
-                    local: tuple[Any, Any] | None = None) -> tuple[Any, list[Any], list[Any]]:
-    """Passive moment (CasADi) of the muscles crossing ``trial``'s joint at angle ``q``, the calf
-    equilibrium residuals and their tendon-length symbols; ``par`` (numbers or symbols) overrides
-    the leg's own parameters by name. ``local`` = (anchor angle, Taylor coefficients as
-    :func:`path_taylor` lays them out) evaluates the paths as polynomials about the anchor."""
+                    local: tuple[Any, Any] | None = None, activation: Any = 0.0,
+                    tendon_strain: dict[str, Any] | None = None) -> tuple[Any, list[Any], list[Any]]:
+    """Passive moment (CasADi) of the muscles crossing ``trial``'s joint at angle ``q``, the
+    equilibrium residuals of the compliant tendons and their tendon-length symbols; ``par`` (numbers
+    or symbols) overrides the leg's own parameters by name. ``local`` = (anchor angle, Taylor
+    coefficients as :func:`path_taylor` lays them out) evaluates the paths as polynomials about the
+    anchor. A model extension may add a tonic ``activation`` (0–1, every muscle crossing the joint)
+    and make more tendons compliant: ``tendon_strain`` maps a rigid-tendoned muscle to its ε_T0."""
     import casadi as ca
 
     paths: dict[str, tuple[Any, Any]] = {}
@@ -196,11 +202,16 @@ def muscles_moment(leg: LegMuscles, trial: PmpTrial, q: Any, par: dict[str, Any]
             continue
         base = leg.params[m]
         ls = par.get(f"{m}.tendon_slack_length_m", base.tendon_slack_length_m)
-        strain = par.get(f"{m}.tendon_strain", base.tendon_strain) if m in COMPLIANT else \
-            par.get(f"{m}.passive_strain", base.passive_strain)
-        lt = ca.SX.sym(f"lt_{m}") if m in COMPLIANT else None
-        fibre = par.get(f"{m}.passive_strain", base.passive_strain) if m in COMPLIANT else None
-        mom, res = muscle_moment(leg, m, trial.joint, angles, ls, strain, lt, paths.get(m), fibre)
+        compliant = m in COMPLIANT or m in (tendon_strain or {})
+        if m in COMPLIANT:
+            strain = par.get(f"{m}.tendon_strain", base.tendon_strain)
+        elif compliant:
+            strain = (tendon_strain or {})[m]
+        else:
+            strain = par.get(f"{m}.passive_strain", base.passive_strain)
+        lt = ca.SX.sym(f"lt_{m}") if compliant else None
+        fibre = par.get(f"{m}.passive_strain", base.passive_strain) if compliant else None
+        mom, res = muscle_moment(leg, m, trial.joint, angles, ls, strain, lt, paths.get(m), fibre, activation)
         moment = moment + mom
         if res is not None:
             residuals.append(res)
@@ -230,12 +241,13 @@ def eliminate_tendons(moment: Any, residuals: list[Any], lts: list[Any], args: l
     return ca.if_else(solved, ca.Function("m", [z, *args], [moment])(zsol, *args), np.nan)
 
 
-def moment_function(leg: LegMuscles, trial: PmpTrial, parameters: dict[str, float]) -> Any:
+def moment_function(leg: LegMuscles, trial: PmpTrial, parameters: dict[str, float], **options: Any) -> Any:
     """CasADi function q ↦ passive muscle moment (N·m) about ``trial``'s joint with ``parameters``
-    (generic values for any not given); the calf tendon lengths are solved by Newton inside it."""
+    (generic values for any not given); the compliant tendons' lengths are solved by Newton inside it.
+    ``options``: a model extension's ``activation`` and ``tendon_strain`` (:func:`muscles_moment`)."""
     import casadi as ca
 
     q = ca.SX.sym("q")
-    moment, residuals, lts = muscles_moment(leg, trial, q, parameters)
+    moment, residuals, lts = muscles_moment(leg, trial, q, parameters, **options)
     return ca.Function("moment", [q], [eliminate_tendons(moment, residuals, lts, [q])])
 

@@ -22,7 +22,13 @@ Candidates (what the dissertation's discussion and the dynamometer literature na
   residual activation; N·m);
 - ``axis_misalignment``: the joint turns by q + a·sin q + b·cos q when the arm turns by q, and
   the muscles' moment reaches the arm scaled by the derivative (virtual work), a and b per joint
-  (≈ offset / lever; rad).
+  (≈ offset / lever; rad);
+- ``end_range_structures``: joint-level exponential terms at the range's ends (capsule, ligaments,
+  muscles the model lacks);
+- ``tonic_activation``: a low activation per joint in every muscle crossing it (isometric active
+  force–length, DeGroote et al. 2016);
+- ``knee_tendon_compliance``: the knee muscles' tendons compliant (one ε_T0 for all of them), as the
+  calf's are.
 
 Sign convention as the estimator's: moments toward positive angle, q̇ in rad/s.
 """
@@ -38,8 +44,9 @@ import numpy as np
 from scipy.stats import t as student_t
 
 from ..trial_csv import NOMINAL_RANGE_DEG
+from .geometry import MUSCLES
 from .model import PmpTrial, Subject, eliminate_tendons, muscles_moment
-from .muscles import LegMuscles
+from .muscles import COMPLIANT, LegMuscles
 from .problem import PmpResult, estimate
 
 FRICTION_SPEED_RAD_S = math.radians(1.0)
@@ -58,6 +65,10 @@ PROTOCOL_TO_SEPARATE = {
     "torque_offset": "an offset needs a return sweep or a hold at a slack mid-range angle",
     "limb_mass_error": "a weight error needs the limb weighed on the dynamometer (a gravity-correction trial)",
     "axis_misalignment": "a misalignment needs the axes aligned by markers or a second attachment point",
+    "tonic_activation": "a tonic activation needs EMG on the muscles during the sweep (or a sweep repeated after "
+                        "the subject is told to relax), and a second speed (a stretch reflex grows with it)",
+    "knee_tendon_compliance": "the knee tendons' compliance needs the sweep further into the stretched end at two hip "
+                              "angles (a compliant tendon flattens the curve's steep end, a slack length shifts it)",
     "end_range_structures": "end-range structures are told from the muscles by a sweep further into the range's end "
                             "and a second set angle of the other joint (a two-joint muscle changes with it, a capsule "
                             "does not)",
@@ -92,9 +103,16 @@ class Extension:
     start: tuple[float, ...] | None = None
     #: the parameters that size the extension's effect (the others shape it, and mean nothing at size 0)
     sizes: tuple[str, ...] | None = None
+    #: ``muscles(trial, p)``: what the extension changes inside the muscles, as keyword arguments of
+    #: :func:`analysis.pmp.model.muscles_moment` (a tonic activation, more compliant tendons); default nothing
+    muscles: Callable[..., dict[str, Any]] | None = None
 
     def moment(self, trial: PmpTrial, q: Any, v: Any, p: list[Any], gravity: Any) -> Any:
         return self.term(trial, q, v, p, gravity)
+
+    def muscle_options(self, trial: PmpTrial, p: list[Any]) -> dict[str, Any]:
+        """Keyword arguments of :func:`analysis.pmp.model.muscles_moment` for ``trial`` (empty: the muscles as they are)."""
+        return self.muscles(trial, p) if self.muscles is not None else {}
 
     def joint_angle(self, trial: PmpTrial, q: Any, p: list[Any]) -> Any:
         return self.angle(trial, q, p) if self.angle is not None else q
@@ -148,6 +166,22 @@ def _end_range(trial: PmpTrial, q: Any, v: Any, p: list[Any], g: Any) -> Any:
     return low - high
 
 
+#: the knee's muscles whose tendons the plain model takes as rigid (the calf's are compliant already)
+RIGID_TENDONED = tuple(m for m in MUSCLES if m not in COMPLIANT)
+#: the tendon strain ε_T0 at which a "compliant" tendon is as good as rigid (0.8 mm of a 0.35 m tendon at
+#: a tenth of the muscle's force), the knee-tendon extension's lower bound and start; DeGroote–Fregly's
+#: generic tendon is 0.049
+NEAR_RIGID_TENDON_STRAIN = 0.01
+
+
+def _tonic(trial: PmpTrial, p: list[Any]) -> dict[str, Any]:
+    return {"activation": _per_joint(trial, p, 0, 1)}
+
+
+def _knee_tendons(trial: PmpTrial, p: list[Any]) -> dict[str, Any]:
+    return {"tendon_strain": {m: p[0] for m in RIGID_TENDONED}}
+
+
 EXTENSIONS: dict[str, Extension] = {e.name: e for e in [
     Extension("viscous_damping", "torque proportional to angular velocity (tissue viscosity)",
               ("damping_Nm_s_per_rad",), (1.0,), (0.0,), (20.0,), lambda t, q, v, p, g: -p[0] * v),
@@ -180,6 +214,17 @@ EXTENSIONS: dict[str, Extension] = {e.name: e for e in [
               material=(1.0, math.inf, math.inf, math.inf) * 4, start=(5.0, 0.0, 0.1, 0.0) * 4,
               sizes=("knee_extension_end_stiffness_Nm_per_rad", "knee_flexion_end_stiffness_Nm_per_rad",
                      "ankle_plantarflexion_end_stiffness_Nm_per_rad", "ankle_dorsiflexion_end_stiffness_Nm_per_rad")),
+    Extension("tonic_activation", "a low tonic activation of every muscle crossing the joint (relaxed is never "
+              "exactly zero): the isometric active force a·f_L(l_M) beside the passive one",
+              ("knee_activation", "ankle_activation"), (0.01, 0.01), (0.0, 0.0), (0.05, 0.05), muscles=_tonic,
+              # 0.2 % of the maximum force: about 0.5 N·m at the knee, the dynamometer's noise
+              material=(0.002, 0.002)),
+    Extension("knee_tendon_compliance", "the knee muscles' tendons stretch (compliant, as the calf's): "
+              "one tendon strain at maximum force for all of them",
+              ("knee_tendon_strain",), (0.049,), (NEAR_RIGID_TENDON_STRAIN,), (0.12,), muscles=_knee_tendons,
+              start=(NEAR_RIGID_TENDON_STRAIN,),
+              # never "away from zero" by its interval (a tendon always has a strain): named by held-out prediction only
+              material=(math.inf,)),
 ]}
 
 
@@ -268,7 +313,8 @@ def predict_torque_nm(result: PmpResult, trial: PmpTrial, subject: Subject, leg:
     q_s, v_s = ca.SX.sym("q"), ca.SX.sym("v")
     ext = [result.extension_parameters[n] for n in extension.parameters] if extension is not None else []
     q_joint = extension.joint_angle(trial, q_s, ext) if extension is not None else q_s
-    moment, residuals, lts = muscles_moment(leg, trial, q_joint, result.parameters)
+    options = extension.muscle_options(trial, ext) if extension is not None else {}
+    moment, residuals, lts = muscles_moment(leg, trial, q_joint, result.parameters, **options)
     muscles = eliminate_tendons(moment, residuals, lts, [q_s])
     if extension is not None and extension.angle is not None:
         muscles = muscles * ca.jacobian(q_joint, q_s)

@@ -177,7 +177,8 @@ def _add_trial(problem: PmpProblem, t: PmpTrial, subject: Subject, leg: LegMuscl
     n_par = len(pset.names)
     p_scaled, e_scaled = problem.p_scaled, problem.e_scaled
     own_leg = moment is None  # the leg's muscles (their paths are expanded about the measured angles)
-    passive = moment or (lambda trial, q, par, local=None: muscles_moment(leg, trial, q, par, local))
+    passive = moment or (lambda trial, q, par, local=None, **options: muscles_moment(leg, trial, q, par, local,
+                                                                                        **options))
     n_pts = 2 * intervals + 1
     tt = np.linspace(t.time_s[0], t.time_s[-1], n_pts)
     dt = (tt[-1] - tt[0]) / intervals
@@ -198,6 +199,9 @@ def _add_trial(problem: PmpProblem, t: PmpTrial, subject: Subject, leg: LegMuscl
     par_s = {n: pset.generic[i] * ps[i] for i, n in enumerate(pset.names)}
     ext_par = [float(extension.typical[i]) * es[i] for i in range(n_ext)]
     q_joint = extension.joint_angle(t, qs, ext_par) if n_ext else qs
+    options = extension.muscle_options(t, ext_par) if n_ext else {}  # what the extension changes in the muscles
+    if options and not own_leg:
+        raise InputError(f"{extension.name} changes the leg's muscles; it cannot extend another passive model")
     local_in: list[Any] = []
     # the leg's paths as Taylor polynomials about the measured angle of each point, unless an
     # extension turns the joint away from the arm's angle (by degrees: the expansion would be off)
@@ -205,10 +209,10 @@ def _add_trial(problem: PmpProblem, t: PmpTrial, subject: Subject, leg: LegMuscl
         _, coef = path_taylor(leg, t, qm)
         coef = np.vstack([qm.reshape(1, -1), coef])
         geo = ca.SX.sym("geo", coef.shape[0])
-        muscles, residuals, calf = passive(t, q_joint, par_s, (geo[0], geo[1:]))
+        muscles, residuals, calf = passive(t, q_joint, par_s, (geo[0], geo[1:]), **options)
         local_in = [geo]
     else:
-        muscles, residuals, calf = passive(t, q_joint, par_s)
+        muscles, residuals, calf = passive(t, q_joint, par_s, **options)
     if n_ext and extension.angle is not None:  # the muscles' moment reaches the arm by virtual work
         muscles = muscles * ca.jacobian(q_joint, qs)
     gravity = subject.gravity_moment_nm(t.joint, qs, t.fixed_rad, ca.cos)

@@ -16,6 +16,7 @@ from ..trial_csv import SUBJECT_RANGES, TrialTable
 from .estimator import MEASUREMENT_SD, PmpResult, PmpTrial, Subject, estimate, identifiability
 from .geometry import path_ranges_deg
 from .identifiability import Identifiability, parameters_at_bound
+from .model import moment_function
 from .muscles import COMPLIANT, LegMuscles, scale_for_subject
 from .stiffness import FIGURE_QUANTITIES, achilles_stiffness_kn_per_m, representative_values
 from .verify import Verification, forward_dynamics
@@ -226,6 +227,11 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
                 moment = np.array([float(extension.moment(t, float(a), float(w), values,
                                                           float(subject.gravity_moment_nm(t.joint, a, t.fixed_rad))))
                                    for a, w in zip(q, v)])
+                options = extension.muscle_options(t, values)
+                if options:  # what it changes in the muscles: the extended muscles' moment less the plain ones'
+                    moment = moment + (np.asarray(moment_function(leg, t, res.parameters, **options).map(q.size)(
+                        q[None, :])).ravel() - np.asarray(moment_function(leg, t, res.parameters).map(q.size)(
+                            q[None, :])).ravel())
                 contribution.append((np.rad2deg(q).tolist(), moment.tolist()))
             extended = ExtendedModel(extension=extension.name, description=extension.description,
                                      contribution_nm=contribution, parameters=dict(res.extension_parameters),

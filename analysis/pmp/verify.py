@@ -47,13 +47,14 @@ def forward_dynamics(trial: PmpTrial, subject: Subject, parameters: dict[str, fl
     simulated: its muscles act at the arm's angle)."""
     import casadi as ca
 
-    f = moment_function(leg or LegMuscles(), trial, parameters)
+    values = [float((extension_parameters or {})[n]) for n in extension.parameters] if extension is not None else []
+    options = extension.muscle_options(trial, values) if extension is not None else {}
+    f = moment_function(leg or LegMuscles(), trial, parameters, **options)
     inertia = subject.inertia_kgm2(trial.joint)
     q, v, u0, u1, dt, s = (ca.SX.sym(n) for n in ("q", "v", "u0", "u1", "dt", "s"))
     gravity = subject.gravity_moment_nm(trial.joint, q, trial.fixed_rad, ca.cos)
     moment = f(q) + gravity
     if extension is not None:
-        values = [float((extension_parameters or {})[n]) for n in extension.parameters]
         moment = moment + extension.moment(trial, q, v, values, gravity)
     accel = ca.Function("a", [q, v, u0, u1, s], [(u0 + (u1 - u0) * s + moment - DAMPING_NM_S_PER_RAD * v) / inertia])
     x = ca.vertcat(q, v)

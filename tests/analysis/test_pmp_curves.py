@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from analysis.pmp.curves import (
+    active_fiber_force,
     passive_fiber_force,
     passive_fiber_stiffness,
     tendon_force,
@@ -25,6 +26,7 @@ def reference() -> dict:
     return run_opensim(f"""
         m = osim.DeGrooteFregly2016Muscle()
         out = {{"fiber": {{}}, "tendon": {{}}}}
+        out["active"] = [m.calcActiveForceLengthMultiplier(x) for x in {FIBER.tolist()}]
         for e in {list(FIBER_STRAINS)}:
             m.set_passive_fiber_strain_at_one_norm_force(e)
             xs = {FIBER.tolist()}
@@ -45,6 +47,11 @@ def test_passive_fiber_curve_matches_opensim(reference: dict, strain: float) -> 
     ref, dref = (np.array(v) for v in reference["fiber"][str(strain)])
     np.testing.assert_allclose(passive_fiber_force(FIBER, strain), ref, rtol=1e-9, atol=1e-12)
     np.testing.assert_allclose(passive_fiber_stiffness(FIBER, strain), dref, rtol=1e-9, atol=1e-12)
+
+
+def test_active_force_length_curve_matches_opensim(reference: dict) -> None:
+    """The tonic-activation extension's isometric active curve, against OpenSim's own (DeGroote et al. 2016, eq S2)."""
+    np.testing.assert_allclose(active_fiber_force(FIBER), np.array(reference["active"]), rtol=1e-9, atol=1e-12)
 
 
 @pytest.mark.parametrize("strain", TENDON_STRAINS)

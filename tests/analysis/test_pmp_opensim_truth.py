@@ -58,6 +58,37 @@ def test_the_forward_model_matches_opensim_at_the_true_parameters(generic) -> No
 
 
 @pytest.mark.timeout(600)
+def test_the_extended_muscles_match_opensim_with_compliant_knee_tendons_and_activation(generic) -> None:
+    """The model extensions' muscle physics (knee tendons compliant, a tonic activation with the active
+    force–length curve) against OpenSim's muscles doing the same, at the true parameters."""
+    import numpy as np
+
+    from analysis.pmp.estimator import PmpTrial
+    from analysis.pmp.model import moment_function
+    from analysis.pmp.model_diagnosis import RIGID_TENDONED
+    from analysis.pmp.muscles import LegMuscles, MuscleParameters, scale_for_subject
+    from benchmarks.opensim_truth import draw_truth, make_trials
+    from benchmarks.pmp_opensim import SHANK_M
+
+    truth = draw_truth(5, generic)
+    made = make_trials(truth, 5, shank_m=SHANK_M, variant="realistic")  # compliant knee tendons, activation 0.01
+    leg = LegMuscles(length_scale=scale_for_subject(SHANK_M))
+    for m, p in truth.items():
+        leg.params[m] = MuscleParameters(p["tendon_slack_length_m"], p["passive_strain"], p["tendon_strain"])
+    strains = {m: truth[m]["tendon_strain"] for m in RIGID_TENDONED}
+    for t in made:
+        step = max(t.passive_nm.size // 40, 1)
+        q = t.true_angle_rad[::step]
+        trial = PmpTrial(t.joint, t.fixed_rad, t.time_s, t.angle_rad, t.velocity_rad_s, t.torque_nm, t.name)
+        extended = np.asarray(moment_function(leg, trial, {}, activation=0.01, tendon_strain=strains)
+                              .map(q.size)(q[None, :])).ravel()
+        plain = np.asarray(moment_function(leg, trial, {}).map(q.size)(q[None, :])).ravel()
+        ours, theirs = np.sqrt(np.mean((extended - t.passive_nm[::step]) ** 2)), \
+            np.sqrt(np.mean((plain - t.passive_nm[::step]) ** 2))
+        assert ours < 0.1 and ours < 0.2 * theirs, (t.name, ours, theirs)
+
+
+@pytest.mark.timeout(600)
 def test_unmodelled_compliant_knee_tendons_and_activation_determine_nothing(generic) -> None:
     _, _, res, idf = _fit(0, generic, "realistic")
     assert idf.determined == [] and not idf.ci95
