@@ -7,7 +7,10 @@ but one condition and predicts the left-out condition's torque from its measured
 dynamics, I·q̈ − M_muscles − M_gravity − M_extension); every condition is left out once. An
 extension is named when it predicts every left-out fold better than the plain model and the
 geometric mean of its per-fold RMSE ratios is below ``max_heldout_ratio``; the one with the lowest
-wins. When the plain model's held-out error is many times its in-sample error the folds do not
+wins. Each other candidate that predicts better than the plain model on its own is then fitted beside
+the winner, and the pair is named when it predicts every fold better than the winner alone by the
+same margin (compliant tendons *and* a tonic activation; end-range structures *and* an offset).
+When the plain model's held-out error is many times its in-sample error the folds do not
 predict each other (a left-out condition's muscles are extrapolated), and the report says so
 instead of naming anything: the diagnosis then needs repeats. Its parameters get jackknife intervals over the
 folds (the spread of the leave-one-out estimates, Student's t with k − 1 degrees of freedom), and the report says how far each
@@ -228,9 +231,54 @@ EXTENSIONS: dict[str, Extension] = {e.name: e for e in [
 ]}
 
 
+#: how a model extended by two extensions is named: ``"tonic_activation+knee_tendon_compliance"``
+JOIN = "+"
+
+
+def combine(first: Extension, second: Extension) -> Extension:
+    """One extension holding two: their parameters side by side, their moments added, their muscle changes
+    merged (at most one of them may map the joint's angle)."""
+    if first.angle is not None and second.angle is not None:
+        raise ValueError(f"{first.name} and {second.name} both map the joint's angle")
+    n = len(first.parameters)
+
+    def default(e: Extension, what: str) -> tuple[float, ...]:
+        given = getattr(e, what)
+        if given is not None:
+            return tuple(given)
+        return tuple(MATERIAL_FRACTION * v for v in e.typical) if what == "material" else (0.0,) * len(e.parameters)
+
+    angle = None
+    if first.angle is not None:
+        angle = lambda t, q, p: first.joint_angle(t, q, p[:n])  # noqa: E731  # the first's map on its own parameters
+    elif second.angle is not None:
+        angle = lambda t, q, p: second.joint_angle(t, q, p[n:])  # noqa: E731  # the second's map on its own parameters
+    return Extension(
+        f"{first.name}{JOIN}{second.name}", f"{first.description}; and {second.description}",
+        first.parameters + second.parameters, first.typical + second.typical, first.lower + second.lower,
+        first.upper + second.upper,
+        lambda t, q, v, p, g: first.moment(t, q, v, p[:n], g) + second.moment(t, q, v, p[n:], g), angle,
+        default(first, "material") + default(second, "material"), default(first, "start") + default(second, "start"),
+        tuple(first.sizes or first.parameters) + tuple(second.sizes or second.parameters),
+        lambda t, p: {**first.muscle_options(t, p[:n]), **second.muscle_options(t, p[n:])})
+
+
+def get_extension(name: str) -> Extension:
+    """The extension of that name in :data:`EXTENSIONS`, or two of them joined by :data:`JOIN`."""
+    parts = name.split(JOIN)
+    if len(parts) == 2:
+        return combine(EXTENSIONS[parts[0]], EXTENSIONS[parts[1]])
+    return EXTENSIONS[name]
+
+
+def protocol_to_separate(name: str) -> str:
+    """What would separate an extension (each of a pair's) from the muscles: :data:`PROTOCOL_TO_SEPARATE`."""
+    return "; ".join(PROTOCOL_TO_SEPARATE.get(n, "another protocol") for n in name.split(JOIN))
+
+
 def is_material(finding: ExtensionFinding) -> bool:
     """Whether any of the finding's parameters is away from zero (interval and size; :data:`MATERIAL_FRACTION`)."""
-    ext = EXTENSIONS.get(finding.name)
+    ext = get_extension(finding.name) if all(n in EXTENSIONS for n in finding.name.split(JOIN)) else None
     smallest = {}
     if ext:
         smallest = dict(zip(ext.parameters, ext.material or tuple(MATERIAL_FRACTION * v for v in ext.typical)))
@@ -430,7 +478,7 @@ def _fold_fit(job: tuple[str | None, Fold], context: dict[str, Any] | None = Non
     key, fold = job
     w = _WORKER if context is None else context
     trials, subject, leg = w["trials"], w["subject"], w["leg"]
-    ext = EXTENSIONS[key] if key else None
+    ext = get_extension(key) if key else None
     fit = estimate([trials[j] for j in fold.fitted], subject, leg=leg, intervals=w["intervals"], extension=ext,
                    initial=w["initial"],
                    held_out_s=[list(win) for win in fold.held_out_s] if fold.held_out_s is not None else None)
@@ -444,7 +492,7 @@ def _fold_fit(job: tuple[str | None, Fold], context: dict[str, Any] | None = Non
 def _full_fit(key: str, context: dict[str, Any] | None = None) -> tuple[dict[str, float], dict[str, float]]:
     """(the extension's parameters, the muscle parameters) of one extended model fitted on every trial."""
     w = _WORKER if context is None else context
-    fit = estimate(w["trials"], w["subject"], leg=w["leg"], intervals=w["intervals"], extension=EXTENSIONS[key],
+    fit = estimate(w["trials"], w["subject"], leg=w["leg"], intervals=w["intervals"], extension=get_extension(key),
                    initial=w["initial"])
     return dict(fit.extension_parameters), dict(fit.parameters)
 
@@ -498,7 +546,9 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
     intervals
         Collocation intervals per trial in every fit.
     max_heldout_ratio
-        An extension is named when its pooled held-out RMSE is below this fraction of the plain model's.
+        An extension is named when the geometric mean of its folds' held-out RMSE ratios to the plain model's is
+        below this (and every fold is better); a second one beside it when the pair's ratios to the first alone
+        are (the pair is then the cause, named ``first+second``).
     plain
         The plain model's fit on all trials, if already made.
     workers
@@ -524,67 +574,91 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
         idx, pred = predict_torque_nm(plain_fit, t, subject, leg)
         in_sample.append((t.torque_nm[idx] - pred) ** 2)
     in_sample_rms = float(np.sqrt(np.mean(np.concatenate(in_sample))))
-    with _FitPool(trials, subject, leg, intervals, plain_fit.parameters, workers) as pool:
-        for batch in ([None], models[1:]):
-            keys = [ext.name if ext else None for ext in batch]
-            jobs = [(key, fold) for key in keys for fold in folds]
-            for (key, fold), (rms, ext_params) in zip(jobs, pool.fold_fits(jobs), strict=True):
-                heldout.setdefault(key or "none", {})[fold.label] = rms
-                fold_params.setdefault(key or "none", []).append(ext_params)
-            if batch == [None] and pooled(heldout["none"]) > INCONCLUSIVE_FACTOR * in_sample_rms:
-                base = pooled(heldout["none"])  # the plain model's folds already show the trials cannot judge an extension
-                return ModelDiagnosis("none", base, heldout["none"], [],
-                                      f"inconclusive: the trials do not predict each other (held-out {base:.3g} N·m "
-                                      f"against {in_sample_rms:.3g} N·m in sample): a left-out condition's muscles are not "
-                                      "determined by the other conditions; record each condition at least twice so "
-                                      "repeats can be left out", [f.label for f in folds], conclusive=False)
-        full_fits = dict(zip(names, pool.full_fits(names), strict=True))
+    k = len(folds)
+    # the jackknife over k folds has k − 1 degrees of freedom: with two repeats the 97.5 % point is
+    # 12.7, not 1.96 (at 1.96 a 0.05 N·m knee offset on clean OpenSim trials looked significant)
+    t975 = float(student_t.ppf(0.975, k - 1))
+    full_fits: dict[str, tuple[dict[str, float], dict[str, float]]] = {}
 
-    base = pooled(heldout["none"])
-    findings = []
-    for ext in models[1:]:
-        assert ext is not None
+    def fit_all(pool: _FitPool, keys: list[str | None]) -> None:
+        jobs = [(key, fold) for key in keys for fold in folds]
+        for (key, fold), (rms, ext_params) in zip(jobs, pool.fold_fits(jobs), strict=True):
+            heldout.setdefault(key or "none", {})[fold.label] = rms
+            fold_params.setdefault(key or "none", []).append(ext_params)
+        named = [key for key in keys if key]
+        full_fits.update(zip(named, pool.full_fits(named), strict=True))
+
+    def ratio_to(name: str, reference: str) -> tuple[float, bool]:
+        """Geometric mean over the folds of the held-out RMSE ratio to ``reference``'s, and whether every fold
+        is better: one fold whose left-out blocks are badly extrapolated must not outweigh the others."""
+        ratios = [heldout[name][f] / heldout[reference][f] for f in heldout[reference] if heldout[reference][f] > 0]
+        return (float(np.exp(np.mean(np.log(ratios)))) if ratios else float("nan")), bool(ratios) and all(
+            r < 1.0 for r in ratios)
+
+    def finding(ext: Extension) -> ExtensionFinding:
         full_ext_params, full_params = full_fits[ext.name]
-        k = len(folds)
-        # the jackknife over k folds has k − 1 degrees of freedom: with two repeats the 97.5 % point is
-        # 12.7, not 1.96 (at 1.96 a 0.05 N·m knee offset on clean OpenSim trials looked significant)
-        t975 = float(student_t.ppf(0.975, k - 1))
         ci = {}
         for p in ext.parameters:
             vals = np.array([fp[p] for fp in fold_params[ext.name]])
             se = math.sqrt((k - 1) / k * float(np.sum((vals - vals.mean()) ** 2)))
             ci[p] = (full_ext_params[p] - t975 * se, full_ext_params[p] + t975 * se)
         shift = {n: 100.0 * (full_params[n] / plain_fit.parameters[n] - 1.0) for n in plain_fit.parameters}
-        rmse = pooled(heldout[ext.name])
-        # the ratio is the geometric mean of the folds' ratios: one fold whose left-out trial is badly
-        # extrapolated must not outweigh the others
-        ratios = [heldout[ext.name][k] / heldout["none"][k] for k in heldout["none"] if heldout["none"][k] > 0]
-        findings.append(ExtensionFinding(ext.name, rmse, float(np.exp(np.mean(np.log(ratios)))) if ratios else float("nan"),
-                                         dict(full_ext_params), ci, shift, heldout[ext.name]))
-        findings[-1].every_fold_better = bool(ratios) and all(r < 1.0 for r in ratios)
-    passing = [f for f in findings if f.heldout_ratio < max_heldout_ratio and f.every_fold_better]
-    close: list[str] = []
-    if passing:
+        ratio, every = ratio_to(ext.name, "none")
+        out = ExtensionFinding(ext.name, pooled(heldout[ext.name]), ratio, dict(full_ext_params), ci, shift,
+                               heldout[ext.name])
+        out.every_fold_better = every
+        return out
+
+    with _FitPool(trials, subject, leg, intervals, plain_fit.parameters, workers) as pool:
+        fit_all(pool, [None])
+        if pooled(heldout["none"]) > INCONCLUSIVE_FACTOR * in_sample_rms:
+            base = pooled(heldout["none"])  # the plain model's folds already show the trials cannot judge an extension
+            return ModelDiagnosis("none", base, heldout["none"], [],
+                                  f"inconclusive: the trials do not predict each other (held-out {base:.3g} N·m "
+                                  f"against {in_sample_rms:.3g} N·m in sample): a left-out condition's muscles are not "
+                                  "determined by the other conditions; record each condition at least twice so "
+                                  "repeats can be left out", [f.label for f in folds], conclusive=False)
+        fit_all(pool, list(names))
+        base = pooled(heldout["none"])
+        findings = [finding(ext) for ext in models[1:] if ext is not None]
+        passing = [f for f in findings if f.heldout_ratio < max_heldout_ratio and f.every_fold_better]
+        close: list[str] = []
+        if not passing:
+            absorbed = [f for f in findings if f.heldout_ratio < 1.05 and is_material(f)]
+            message = (f"no extension predicts the left-out trials better than {max_heldout_ratio:.0%} of the plain "
+                       f"model's {base:.3f} N·m: the model fits to the noise of these trials")
+            if absorbed:
+                message += ("; but " + ", ".join(f.name for f in absorbed) + " fit(s) with parameters away from zero "
+                            "and the muscles' parameters absorb them (they move: see below): "
+                            + "; ".join(protocol_to_separate(f.name) for f in absorbed))
+            return ModelDiagnosis("none", base, heldout["none"], findings, message, [f.label for f in folds])
         best = min(passing, key=lambda f: f.heldout_ratio)
-        best.named = True
         close = [f.name for f in passing if f is not best and f.heldout_ratio <= best.heldout_ratio * 1.05]
-        message = (f"{best.name} ({EXTENSIONS[best.name].description}): held-out RMSE {base:.3f} → "
-                   f"{best.heldout_rmse_nm:.3f} N·m (ratio {best.heldout_ratio:.2f})"
-                   + (f"; {', '.join(close)} predict nearly as well (these trials do not separate them: "
-                      + "; ".join(PROTOCOL_TO_SEPARATE.get(n, "another protocol") for n in [best.name, *close]) + ")"
-                      if close else ""))
-        cause = best.name
-    else:
-        absorbed = [f for f in findings if f.heldout_ratio < 1.05 and is_material(f)]
-        message = (f"no extension predicts the left-out trials better than {max_heldout_ratio:.0%} of the plain "
-                   f"model's {base:.3f} N·m: the model fits to the noise of these trials")
-        if absorbed:
-            message += ("; but " + ", ".join(f.name for f in absorbed) + " fit(s) with parameters away from zero and "
-                        "the muscles' parameters absorb them (they move: see below): "
-                        + "; ".join(PROTOCOL_TO_SEPARATE.get(f.name, "another protocol") for f in absorbed))
-        cause = "none"
-    return ModelDiagnosis(cause, base, heldout["none"], findings, message, [f.label for f in folds],
+        # a second mismatch beside the first: each other candidate that predicts better than the plain model on its
+        # own is added to the best one, and the pair is named when it predicts every fold better than the best
+        # alone by the same margin (a subject is rarely wrong in one way only)
+        seconds = [f for f in findings if f is not best and f.heldout_ratio < 1.0
+                   and (EXTENSIONS[best.name].angle is None or EXTENSIONS[f.name].angle is None)]
+        pairs = [combine(EXTENSIONS[best.name], EXTENSIONS[f.name]) for f in seconds]
+        if pairs:
+            fit_all(pool, [p.name for p in pairs])
+    chosen = best
+    for pair in pairs:
+        findings.append(finding(pair))
+        ratio, every = ratio_to(pair.name, best.name)
+        if ratio < max_heldout_ratio and every and findings[-1].heldout_ratio < chosen.heldout_ratio:
+            chosen = findings[-1]
+    chosen.named = True
+    close = [n for n in close if n not in chosen.name.split(JOIN)]  # a close rival named beside the best is no rival
+    step = (f"; with {chosen.name.split(JOIN)[1]} beside it {best.heldout_rmse_nm:.3f} → {chosen.heldout_rmse_nm:.3f} "
+            f"N·m" if chosen is not best else "")
+    message = (f"{chosen.name} ({get_extension(chosen.name).description}): held-out RMSE {base:.3f} → "
+               f"{best.heldout_rmse_nm:.3f} N·m with {best.name} (ratio {best.heldout_ratio:.2f}){step}"
+               + (f"; {', '.join(close)} predicts nearly as well as {best.name} (these trials do not separate them: "
+                  + "; ".join(protocol_to_separate(n) for n in [best.name, *close]) + ")" if close else ""))
+    return ModelDiagnosis(chosen.name, base, heldout["none"], findings, message, [f.label for f in folds],
                           ambiguous_with=close)
 
 
-__all__ = ["folds_of", "EXTENSIONS", "Extension", "ExtensionFinding", "ModelDiagnosis", "diagnose_model", "predict_torque_nm"]
+__all__ = ["folds_of", "EXTENSIONS", "Extension", "combine", "get_extension",
+           "ExtensionFinding", "ModelDiagnosis", "diagnose_model", "predict_torque_nm"]

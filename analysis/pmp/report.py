@@ -194,8 +194,8 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
     extended: ExtendedModel | None = None
     extension = None
     if diagnose_model:
-        from .model_diagnosis import EXTENSIONS
         from .model_diagnosis import diagnose_model as run_model_diagnosis
+        from .model_diagnosis import get_extension
 
         if progress is not None:
             progress("model-level diagnosis: each candidate fitted and judged on held-out blocks ...")
@@ -205,7 +205,7 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
         if model.cause != "none":
             # extend the model with what the diagnosis named, refit, and report the extended model's parameters
             # with the extension's parameters as nuisances in their intervals; the plain fit is kept beside it
-            extension = EXTENSIONS[model.cause]
+            extension = get_extension(model.cause)
             if progress is not None:
                 progress(f"refit with {extension.name} ...")
             plain_res, plain_idf = res, idf
@@ -304,10 +304,10 @@ def text(report: PmpReport, *, timings: bool = True) -> str:
                      "extended model's, its intervals with the extension's parameters fitted jointly)")
         traded = sorted(set(ext.plain_determined) - set(ext.determined))
         if traded:
-            from .model_diagnosis import PROTOCOL_TO_SEPARATE
+            from .model_diagnosis import protocol_to_separate
 
             lines.append("  trade with the extension (determined by the plain model, not beside it): " + ", ".join(traded)
-                         + "; " + PROTOCOL_TO_SEPARATE.get(ext.extension, "another protocol to separate them"))
+                         + "; " + protocol_to_separate(ext.extension))
     return "\n".join(lines)
 
 
