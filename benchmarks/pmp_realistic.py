@@ -174,12 +174,23 @@ def run(quick: bool = False) -> dict[str, Any]:
         for f in as_completed(futures):
             r = f.result()
             (failed if "failed" in r else subjects).append(r)
-            partial.write_text(json.dumps({"subjects": subjects, "failed": failed}, default=str))
+            done = riener_future.done() and riener_future.exception() is None
+            partial.write_text(json.dumps({"subjects": subjects, "failed": failed,
+                                           "riener": riener_future.result() if done else None}, default=str))
         try:
             riener = riener_future.result()
         except Exception as err:
             riener = {"failed": f"{type(err).__name__}: {err}", "named": "-", "plain_misfit": float("nan"),
                       "misfit": float("nan"), "determined": []}
+    return summarise(subjects, failed, riener, quick, per)
+
+
+def summarise(subjects: list[dict[str, Any]], failed: list[dict[str, Any]], riener: dict[str, Any] | None,
+              quick: bool, per: int) -> dict[str, Any]:
+    """The table and the keys from the subjects measured (a run stopped early is summarised from its partial
+    file: seed k of every variant comes before seed k + 1 of any)."""
+    riener = riener or {"failed": "not run to its end", "named": "-", "plain_misfit": float("nan"),
+                        "misfit": float("nan"), "determined": []}
     subjects.sort(key=lambda r: (VARIANTS.index(r["variant"]), r["seed"]))
     print(f"{'seed':>5} {'variant':<19}{'hidden':<34}{'named':<22}{'misfit':>13}{'det':>5}{'cov':>6}{'max err':>8}{'s':>6}")
     for r in subjects:
@@ -197,10 +208,11 @@ def run(quick: bool = False) -> dict[str, Any]:
                          "determined_median": float(np.median([len(r["determined"]) for r in rs])),
                          "coverage_95": float(np.mean([d["covered"] for d in det])) if det else None,
                          "max_error_pct": max((abs(d["error_pct"]) for d in det), default=None)}
-    nameable = [r for r in subjects if r["expected"]]
+    nameable = [r for r in subjects if EXPECTED[r["variant"]]]
     matched = [r for r in subjects if r["variant"] == "matched"]
     det_all = [d for r in subjects for d in r["determined"]]
     out = {"quick": quick, "seed_base": SEED_BASE, "subjects_per_variant": per, "failed": failed,
+           "subjects_measured": len(subjects),
            "mismatch_named_rate": float(np.mean([r["named_right"] for r in nameable])) if nameable else None,
            "mismatch_named_rate_by_variant": {v: b["named_right_rate"] for v, b in by_variant.items() if v != "matched"},
            "false_extension_rate": float(np.mean([r["named"] != "none" for r in matched])) if matched else None,

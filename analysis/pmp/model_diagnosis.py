@@ -7,9 +7,9 @@ but one condition and predicts the left-out condition's torque from its measured
 dynamics, I·q̈ − M_muscles − M_gravity − M_extension); every condition is left out once. An
 extension is named when it predicts every left-out fold better than the plain model and the
 geometric mean of its per-fold RMSE ratios is below ``max_heldout_ratio``; the one with the lowest
-wins. Each other candidate that predicts better than the plain model on its own is then fitted beside
-the winner, and the pair is named when it predicts every fold better than the winner alone by the
-same margin (compliant tendons *and* a tonic activation; end-range structures *and* an offset).
+wins. Each other candidate that would be named on its own is then fitted beside the winner, and
+the pair is named when it predicts every fold better than the winner alone by the same margin
+(compliant tendons *and* a tonic activation; end-range structures *and* an offset).
 When the plain model's held-out error is many times its in-sample error the folds do not
 predict each other (a left-out condition's muscles are extrapolated), and the report says so
 instead of naming anything: the diagnosis then needs repeats. Its parameters get jackknife intervals over the
@@ -634,10 +634,10 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
             return ModelDiagnosis("none", base, heldout["none"], findings, message, [f.label for f in folds])
         best = min(passing, key=lambda f: f.heldout_ratio)
         close = [f.name for f in passing if f is not best and f.heldout_ratio <= best.heldout_ratio * 1.05]
-        # a second mismatch beside the first: each other candidate that predicts better than the plain model on its
-        # own is added to the best one, and the pair is named when it predicts every fold better than the best
-        # alone by the same margin (a subject is rarely wrong in one way only)
-        seconds = [f for f in findings if f is not best and f.heldout_ratio < 1.0
+        # a second mismatch beside the first: each other candidate that would be named on its own is added to the
+        # best one, and the pair is named when it predicts every fold better than the best alone by the same margin
+        # (a subject is rarely wrong in one way only)
+        seconds = [f for f in passing if f is not best
                    and (EXTENSIONS[best.name].angle is None or EXTENSIONS[f.name].angle is None)]
         pairs = [combine(EXTENSIONS[best.name], EXTENSIONS[f.name]) for f in seconds]
         if pairs:
