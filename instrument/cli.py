@@ -165,8 +165,9 @@ def build_parser() -> argparse.ArgumentParser:
     pmp.add_argument("--recompute", action="store_true", help="fit again even if the store holds this analysis")
     pmp.add_argument("--diagnose-model", action="store_true",
                      help="also fit each candidate model extension (damping, friction, limb-mass error, torque offset, "
-                          "axis misalignment) inside the estimator and judge it by held-out prediction across trials "
-                          "(about 5 fits per trial condition and candidate: minutes)")
+                          "axis misalignment, end-range structures, a tonic activation, compliant knee tendons) inside "
+                          "the estimator, judge it by held-out prediction across trials, and a second one beside the "
+                          "winner (about 5 fits per candidate: minutes)")
     rep = analyses.add_parser("replica", help="spring stiffness and rest length of the replica leg from its static holds")
     rep.set_defaults(run=cmd_analyze_replica)
     rep.add_argument("trials", nargs="+", help="store trial ids, .h5 trial files or replica trial CSVs (with sidecars)")
