@@ -96,8 +96,11 @@ def test_demo_records_a_lab_day_into_a_store(demo_run: tuple[Path, str]) -> None
     assert "parameters" in pmp and pmp["identifiability"]["undetermined"]  # the report says what is free
     assert len(pmp["forward_dynamics"]) == 6  # knee at hip 90/55/15°, ankle at knee 0/45/90°
     # the subject's moments are OpenSim's, with structures and muscles the estimator lacks: the model-level
-    # diagnosis names the end-range structures, the extended model fits, and what it determines holds the truth
-    assert pmp["model_diagnosis"]["cause"] == "end_range_structures"
+    # diagnosis names the end-range structures, the extended model fits, and what it determines holds the truth.
+    # A torque offset may be named beside them: the simulated leg's damping (0.3 N·m·s/rad) is a constant
+    # 0.08 N·m against each one-way sweep at 15 °/s
+    first, *second = pmp["model_diagnosis"]["cause"].split("+")
+    assert first == "end_range_structures" and set(second) <= {"torque_offset"}, pmp["model_diagnosis"]["cause"]
     # no repeats: each candidate judged by predicting held-out time blocks of every trial
     assert pmp["model_diagnosis"]["folds"] == [f"blocks {k}" for k in range(1, 5)]
     assert pmp["extended"]["misfit_ratio"] < pmp["extended"]["plain_misfit_ratio"] / 3
