@@ -120,6 +120,10 @@ class Extension:
     def joint_angle(self, trial: PmpTrial, q: Any, p: list[Any]) -> Any:
         return self.angle(trial, q, p) if self.angle is not None else q
 
+    def smallest(self) -> tuple[float, ...]:
+        """The smallest size of each parameter worth reporting (SI): ``material``, else MATERIAL_FRACTION × typical."""
+        return tuple(self.material) if self.material is not None else tuple(MATERIAL_FRACTION * v for v in self.typical)
+
 
 def _per_joint(trial: PmpTrial, p: list[Any], knee: int, ankle: int) -> Any:
     return p[knee] if trial.joint == "knee" else p[ankle]
@@ -220,7 +224,8 @@ EXTENSIONS: dict[str, Extension] = {e.name: e for e in [
     Extension("tonic_activation", "a low tonic activation of every muscle crossing the joint (relaxed is never "
               "exactly zero): the isometric active force a·f_L(l_M) beside the passive one",
               ("knee_activation", "ankle_activation"), (0.01, 0.01), (0.0, 0.0), (0.05, 0.05), muscles=_tonic,
-              # 0.2 % of the maximum force: about 0.5 N·m at the knee, the dynamometer's noise
+              # 0.2 % of the maximum force: on the generic leg it moves the knee's moment by up to 0.53 N·m (hip 55°)
+              # and the ankle's by up to 0.80 N·m (knee 45°), the size of a dynamometer's noise
               material=(0.002, 0.002)),
     Extension("knee_tendon_compliance", "the knee muscles' tendons stretch (compliant, as the calf's): "
               "one tendon strain at maximum force for all of them",
@@ -242,11 +247,8 @@ def combine(first: Extension, second: Extension) -> Extension:
         raise ValueError(f"{first.name} and {second.name} both map the joint's angle")
     n = len(first.parameters)
 
-    def default(e: Extension, what: str) -> tuple[float, ...]:
-        given = getattr(e, what)
-        if given is not None:
-            return tuple(given)
-        return tuple(MATERIAL_FRACTION * v for v in e.typical) if what == "material" else (0.0,) * len(e.parameters)
+    def start(e: Extension) -> tuple[float, ...]:
+        return tuple(e.start) if e.start is not None else (0.0,) * len(e.parameters)
 
     angle = None
     if first.angle is not None:
@@ -258,7 +260,7 @@ def combine(first: Extension, second: Extension) -> Extension:
         first.parameters + second.parameters, first.typical + second.typical, first.lower + second.lower,
         first.upper + second.upper,
         lambda t, q, v, p, g: first.moment(t, q, v, p[:n], g) + second.moment(t, q, v, p[n:], g), angle,
-        default(first, "material") + default(second, "material"), default(first, "start") + default(second, "start"),
+        first.smallest() + second.smallest(), start(first) + start(second),
         tuple(first.sizes or first.parameters) + tuple(second.sizes or second.parameters),
         lambda t, p: {**first.muscle_options(t, p[:n]), **second.muscle_options(t, p[n:])})
 
@@ -278,10 +280,8 @@ def protocol_to_separate(name: str) -> str:
 
 def is_material(finding: ExtensionFinding) -> bool:
     """Whether any of the finding's parameters is away from zero (interval and size; :data:`MATERIAL_FRACTION`)."""
-    ext = get_extension(finding.name) if all(n in EXTENSIONS for n in finding.name.split(JOIN)) else None
-    smallest = {}
-    if ext:
-        smallest = dict(zip(ext.parameters, ext.material or tuple(MATERIAL_FRACTION * v for v in ext.typical)))
+    known = all(n in EXTENSIONS for n in finding.name.split(JOIN))
+    smallest = dict(zip(ext.parameters, ext.smallest())) if known and (ext := get_extension(finding.name)) else {}
     return any((lo > 0 or hi < 0) and abs(finding.parameters.get(k, 0.0)) >= smallest.get(k, 0.0)
                for k, (lo, hi) in finding.ci95.items())
 
@@ -562,7 +562,6 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
     folds = held_out_folds(trials)
     leg = leg or LegMuscles()
     names = candidates or list(EXTENSIONS)
-    models: list[Extension | None] = [None] + [EXTENSIONS[n] for n in names]
     plain_fit = plain or estimate(trials, subject, leg=leg, intervals=intervals)
     heldout: dict[str, dict[str, float]] = {}
     fold_params: dict[str, list[dict[str, float]]] = {}
@@ -620,7 +619,7 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
                                   "repeats can be left out", [f.label for f in folds], conclusive=False)
         fit_all(pool, list(names))
         base = pooled(heldout["none"])
-        findings = [finding(ext) for ext in models[1:] if ext is not None]
+        findings = [finding(EXTENSIONS[n]) for n in names]
         passing = [f for f in findings if f.heldout_ratio < max_heldout_ratio and f.every_fold_better]
         close: list[str] = []
         if not passing:
