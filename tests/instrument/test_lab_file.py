@@ -115,7 +115,10 @@ def test_the_lab_file_can_publish_the_trial_as_lab_streaming_layer_outlets(knee_
     seen: list[str] = []
 
     def listen() -> None:
-        seen.extend(i.source_id() for i in pylsl.resolve_byprop("name", "instrument-dynamometer", timeout=8.0))
+        # Other tests publish "instrument-dynamometer" outlets too (on the same host, in parallel workers):
+        # wait for this store's outlet by its source id, not for the first outlet of that name.
+        predicate = "name='instrument-dynamometer' and starts-with(source_id, 'instrument:store-')"
+        seen.extend(i.source_id() for i in pylsl.resolve_bypred(predicate, minimum=1, timeout=8.0))
 
     listener = threading.Thread(target=listen)
     listener.start()
