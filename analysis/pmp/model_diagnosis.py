@@ -56,6 +56,9 @@ FRICTION_SPEED_RAD_S = math.radians(1.0)
 #: when the plain model's held-out error is this many times its in-sample error, the folds do not
 #: predict each other (a left-out condition's muscles are extrapolated) and nothing can be judged
 INCONCLUSIVE_FACTOR = 5.0
+#: a candidate predicting the folds within this ratio of the plain model's, but not better by the naming margin,
+#: is "absorbed" when its parameters are material: the muscles' parameters took its place (they move)
+ABSORBED_RATIO = 1.05
 #: an extension's parameter counts as away from zero when its 95 % interval excludes zero *and* it is
 #: at least this fraction of the parameter's typical size: a damping of 1e-7 N·m·s/rad with a tight
 #: interval (an optimiser's leftover, 1e-8 N·m at 5°/s) is not a finding
@@ -579,13 +582,22 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
     t975 = float(student_t.ppf(0.975, k - 1))
     full_fits: dict[str, tuple[dict[str, float], dict[str, float]]] = {}
 
-    def fit_all(pool: _FitPool, keys: list[str | None]) -> None:
+    def fit_folds(pool: _FitPool, keys: list[str | None]) -> None:
         jobs = [(key, fold) for key in keys for fold in folds]
         for (key, fold), (rms, ext_params) in zip(jobs, pool.fold_fits(jobs), strict=True):
             heldout.setdefault(key or "none", {})[fold.label] = rms
             fold_params.setdefault(key or "none", []).append(ext_params)
-        named = [key for key in keys if key]
-        full_fits.update(zip(named, pool.full_fits(named), strict=True))
+
+    def fit_whole(pool: _FitPool, keys: list[str]) -> None:
+        """The fit on every trial, for the candidates whose parameters and the muscles' shifts are reported as
+        such: those that predict the folds better (named, a close rival, a pair) or nearly as well as the plain
+        model (absorbed by the muscles). The others are reported with their folds' mean parameters."""
+        keys = [key for key in keys if key not in full_fits]
+        full_fits.update(zip(keys, pool.full_fits(keys), strict=True))
+
+    def worth_a_whole_fit(name: str, reference: str) -> bool:
+        ratio, _ = ratio_to(name, reference)
+        return ratio < ABSORBED_RATIO
 
     def ratio_to(name: str, reference: str) -> tuple[float, bool]:
         """Geometric mean over the folds of the held-out RMSE ratio to ``reference``'s, and whether every fold
@@ -595,13 +607,17 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
             r < 1.0 for r in ratios)
 
     def finding(ext: Extension) -> ExtensionFinding:
-        full_ext_params, full_params = full_fits[ext.name]
+        if ext.name in full_fits:
+            full_ext_params, full_params = full_fits[ext.name]
+            shift = {n: 100.0 * (full_params[n] / plain_fit.parameters[n] - 1.0) for n in plain_fit.parameters}
+        else:  # not fitted whole (fit_whole): the folds' mean, and no shift to report
+            full_ext_params = {p: float(np.mean([fp[p] for fp in fold_params[ext.name]])) for p in ext.parameters}
+            shift = {}
         ci = {}
         for p in ext.parameters:
             vals = np.array([fp[p] for fp in fold_params[ext.name]])
             se = math.sqrt((k - 1) / k * float(np.sum((vals - vals.mean()) ** 2)))
             ci[p] = (full_ext_params[p] - t975 * se, full_ext_params[p] + t975 * se)
-        shift = {n: 100.0 * (full_params[n] / plain_fit.parameters[n] - 1.0) for n in plain_fit.parameters}
         ratio, every = ratio_to(ext.name, "none")
         out = ExtensionFinding(ext.name, pooled(heldout[ext.name]), ratio, dict(full_ext_params), ci, shift,
                                heldout[ext.name])
@@ -609,7 +625,7 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
         return out
 
     with _FitPool(trials, subject, leg, intervals, plain_fit.parameters, workers) as pool:
-        fit_all(pool, [None])
+        fit_folds(pool, [None])
         if pooled(heldout["none"]) > INCONCLUSIVE_FACTOR * in_sample_rms:
             base = pooled(heldout["none"])  # the plain model's folds already show the trials cannot judge an extension
             return ModelDiagnosis("none", base, heldout["none"], [],
@@ -617,13 +633,14 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
                                   f"against {in_sample_rms:.3g} N·m in sample): a left-out condition's muscles are not "
                                   "determined by the other conditions; record each condition at least twice so "
                                   "repeats can be left out", [f.label for f in folds], conclusive=False)
-        fit_all(pool, list(names))
+        fit_folds(pool, list(names))
+        fit_whole(pool, [n for n in names if worth_a_whole_fit(n, "none")])
         base = pooled(heldout["none"])
         findings = [finding(EXTENSIONS[n]) for n in names]
         passing = [f for f in findings if f.heldout_ratio < max_heldout_ratio and f.every_fold_better]
         close: list[str] = []
         if not passing:
-            absorbed = [f for f in findings if f.heldout_ratio < 1.05 and is_material(f)]
+            absorbed = [f for f in findings if f.heldout_ratio < ABSORBED_RATIO and is_material(f)]
             message = (f"no extension predicts the left-out trials better than {max_heldout_ratio:.0%} of the plain "
                        f"model's {base:.3f} N·m: the model fits to the noise of these trials")
             if absorbed:
@@ -640,7 +657,10 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
                    and (EXTENSIONS[best.name].angle is None or EXTENSIONS[f.name].angle is None)]
         pairs = [combine(EXTENSIONS[best.name], EXTENSIONS[f.name]) for f in seconds]
         if pairs:
-            fit_all(pool, [p.name for p in pairs])
+            fit_folds(pool, [p.name for p in pairs])
+            # a pair is fitted whole only when it may be named (its folds better than the best alone's by the margin)
+            fit_whole(pool, [p.name for p in pairs if ratio_to(p.name, best.name)[0] < max_heldout_ratio
+                             and ratio_to(p.name, best.name)[1]])
     chosen = best
     for pair in pairs:
         findings.append(finding(pair))
