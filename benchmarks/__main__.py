@@ -18,6 +18,7 @@ BENCHMARKS = {"drivers": "benchmarks.drivers", "pmp_opensim": "benchmarks.pmp_op
               "diagnosis_stops": "benchmarks.diagnosis_stops", "diagnosis_input": "benchmarks.diagnosis_input",
               "diagnosis_family_b": "benchmarks.diagnosis_family_b",
               "diagnosis_family_c": "benchmarks.diagnosis_family_c",
+              "diagnosis_family_d": "benchmarks.diagnosis_family_d",
               "sindy_peer_families": "benchmarks.sindy_peer_families",
               "pmp_realistic": "benchmarks.pmp_realistic", "lsl": "benchmarks.lsl"}
 

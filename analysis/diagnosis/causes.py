@@ -71,6 +71,12 @@ SMOOTH_END_RATES_PER_RAD = np.geomspace(2.0, 20.0, 8)
 #: choice: a wider window flattens the acceleration peaks at the turnarounds and reads the inertia larger
 ACCEL_WINDOWS_S = (0.075, 0.15, 0.3)
 SPLINE_KNOTS = 8                          # interior knots of the flexible baseline's spline
+#: the decay speeds (rad/s) of a Stribeck friction's static excess: from a sharp break-away (0.5 °/s) to one
+#: spread over the sweep's speed (8 °/s)
+STRIBECK_SPEEDS_RAD_S = np.deg2rad(np.geomspace(0.5, 8.0, 5))
+#: a smooth drift's Legendre degree in time: a cubic follows a settling (exponential or logarithmic) offset and
+#: up to one slow swing over the trial, and stays slower than any sweep of several cycles
+DRIFT_SMOOTH_DEGREE = 3
 #: an activation burst's physiological duration (s): a stretch reflex or a voluntary twitch lasts
 #: 0.15–2 s; longer "bursts" would absorb drift or a baseline mismatch
 BURST_DURATION_S = (0.15, 2.0)
@@ -231,6 +237,10 @@ class Cause:
     #: a known part of the prediction (N·m, not fitted) given the nonlinear parameters, or None: a
     #: lagging torque channel lags the limb's known weight and inertia too (see Prepared.delayed_known)
     offset: Callable[[Prepared, tuple[float, ...]], np.ndarray] | None = None
+    #: extension columns and nonlinear parameters of a variant whose counts differ from its cause's usual ones
+    #: (a Stribeck friction's static excess and decay speed, a smooth drift's higher terms); None: the usual
+    n_columns: int | None = None
+    n_nonlinear: int | None = None
 
 
 def _plain(prep: Prepared, extra: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -347,13 +357,56 @@ def burst_bounds(prep: Prepared, nl: tuple[float, ...]) -> tuple[float, float]:
     return start, dur
 
 
-def friction_cause(law: str) -> Cause:
-    """The Coulomb friction cause with the smooth law ``law`` of :data:`FRICTION_LAWS`."""
+def friction_cause(law: str, stribeck: bool = False) -> Cause:
+    """The Coulomb friction cause with the smooth law ``law`` of :data:`FRICTION_LAWS`; with ``stribeck``,
+    Stribeck's law (Armstrong-Hélouvry 1991): a static excess over the Coulomb level decaying with speed,
+    s(v)·(F_C + F_S·exp(−|v|/v_S)), F_S ≥ 0 on the grid of :data:`STRIBECK_SPEEDS_RAD_S`. ``friction_Nm`` is
+    the Coulomb (kinetic) level either way."""
     shape = FRICTION_LAWS[law]
-    return Cause("coulomb_friction", "constant torque opposing motion (hysteresis of constant width)",
-                 ("afo", "knee", "ankle"), lambda p, nl: _plain(p, shape(p.omega / nl[0])),
-                 lambda c, nl: {"friction_Nm": float(c[0]), "friction_width_deg_s": float(np.rad2deg(nl[0]))},
-                 "friction_Nm", lambda p: [FRICTION_WIDTHS_RAD_S], signs=(1,), hysteretic=True)
+    if not stribeck:
+        return Cause("coulomb_friction", "constant torque opposing motion (hysteresis of constant width)",
+                     ("afo", "knee", "ankle"), lambda p, nl: _plain(p, shape(p.omega / nl[0])),
+                     lambda c, nl: {"friction_Nm": float(c[0]), "friction_width_deg_s": float(np.rad2deg(nl[0]))},
+                     "friction_Nm", lambda p: [FRICTION_WIDTHS_RAD_S], signs=(1,), hysteretic=True)
+
+    def columns(p: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        s = shape(p.omega / nl[0])
+        return _plain(p, np.column_stack([s, s * np.exp(-np.abs(p.omega) / nl[1])]))
+
+    return Cause("coulomb_friction", "torque opposing motion, larger when starting than when sliding (Stribeck)",
+                 ("afo", "knee", "ankle"), columns,
+                 lambda c, nl: {"friction_Nm": float(c[0]), "friction_width_deg_s": float(np.rad2deg(nl[0])),
+                                "static_excess_Nm": float(c[1]), "stribeck_speed_deg_s": float(np.rad2deg(nl[1]))},
+                 "friction_Nm", lambda p: [FRICTION_WIDTHS_RAD_S, STRIBECK_SPEEDS_RAD_S], signs=(1, 1),
+                 hysteretic=True, n_columns=2, n_nonlinear=2)
+
+
+def _time_legendre(p: Prepared, degree: int) -> np.ndarray:
+    """Legendre polynomials P1..P``degree`` of the trial's time mapped to [−1, 1] (orthogonal on even sampling:
+    the first is the linear trend whatever the others take)."""
+    span = max(float(p.t[-1] - p.t[0]), 1e-9)
+    u = 2.0 * (p.t - p.t[0]) / span - 1.0
+    return np.polynomial.legendre.legvander(u, degree)[:, 1:]
+
+
+def drift_cause(law: str) -> Cause:
+    """The sensor drift cause: ``"linear"`` (a constant rate) or ``"smooth"`` (:data:`DRIFT_SMOOTH_DEGREE` Legendre
+    polynomials in time: a settling or wandering offset slower than the movement). ``drift_Nm_per_s`` is the
+    linear trend either way; ``drift_Pk_Nm`` the higher terms' amplitudes (N·m at the trial's ends)."""
+    degree = 1 if law == "linear" else DRIFT_SMOOTH_DEGREE
+
+    def report(c: np.ndarray, nl: tuple[float, ...]) -> dict[str, float]:
+        return {"drift_Nm_per_s": float(c[0]), **{f"drift_P{k + 2}_Nm": float(v) for k, v in enumerate(c[1:])}}
+
+    def columns(p: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        x = _time_legendre(p, degree)
+        # the first column in N·m per second of trial (its coefficient is the linear rate)
+        x[:, 0] = p.t - p.t.mean()
+        return _plain(p, x)
+
+    return Cause("sensor_drift", "torque offset drifting with time" + ("" if degree == 1 else " (not at a constant rate)"),
+                 ("afo", "knee", "ankle", "replica"), columns, report, "drift_Nm_per_s", hysteretic=True,
+                 n_columns=degree)
 
 
 def burst_cause(shape: str) -> Cause:
@@ -370,6 +423,15 @@ def burst_cause(shape: str) -> Cause:
 SHAPE_VARIANTS: dict[str, dict[str, Callable[[], Cause]]] = {
     "coulomb_friction": {law: functools.partial(friction_cause, law) for law in FRICTION_LAWS},
     "activation_burst": {shape: functools.partial(burst_cause, shape) for shape in BURST_SHAPES},
+}
+#: laws of one cause with different numbers of parameters: the search uses the one with the lowest BIC on the
+#: trial (evidence.likeliest_law); the first is the simplest
+LAW_VARIANTS: dict[str, dict[str, Callable[[], Cause]]] = {
+    "coulomb_friction": {**{law: functools.partial(friction_cause, law) for law in FRICTION_LAWS},
+                         **{f"{law} with Stribeck": functools.partial(friction_cause, law, True)
+                            for law in FRICTION_LAWS}},
+    "sensor_drift": {"linear": functools.partial(drift_cause, "linear"),
+                     "smooth": functools.partial(drift_cause, "smooth")},
 }
 
 
@@ -401,9 +463,7 @@ CAUSES: dict[str, Cause] = {c.name: c for c in [
           "(a moving mass not accounted for)",
           ("knee", "ankle"), lambda p, nl: _plain(p, p.alpha), lambda c, nl: {"inertia_kgm2": float(c[0])}, "inertia_kgm2",
           transient=True, hysteretic=True),  # accelerations happen at speed changes only: held-out blocks cannot learn it
-    Cause("sensor_drift", "torque offset drifting with time", ("afo", "knee", "ankle", "replica"),
-          lambda p, nl: _plain(p, p.t - p.t.mean()), lambda c, nl: {"drift_Nm_per_s": float(c[0])}, "drift_Nm_per_s",
-          hysteretic=True),
+    drift_cause("linear"),
 ]}
 
 #: pairs a trial may not tell apart, and the protocol change that would
@@ -484,9 +544,13 @@ def _signs(cause: Cause) -> tuple[int, ...]:
 
 
 def _ext_count(cause: Cause) -> int:
+    if cause.n_columns is not None:
+        return cause.n_columns
     return 0 if cause.name in ARGUMENT_CAUSES or cause.name == "none" else 1
 
 
 def _nl_count(cause: Cause) -> int:
+    if cause.n_nonlinear is not None:
+        return cause.n_nonlinear
     return {"hard_stop": 1, "activation_burst": 2, "time_delay": 1, "series_compliance": 1,
             "coulomb_friction": 1}.get(cause.name, 0)

@@ -51,6 +51,7 @@ from ..trial_csv import NOMINAL_RANGE_DEG
 from .causes import (
     ARGUMENT_CAUSES,
     CAUSES,
+    LAW_VARIANTS,
     SEPARATE_BY,
     SMOOTH_END_RATES_PER_RAD,
     STOP_OR_STEEPER_END_HINT,
@@ -66,7 +67,7 @@ from .evidence import (
     bic,
     effective_n,
     heldout_residuals,
-    likeliest_friction_law,
+    likeliest_law,
     magnitude_variants,
     parameter_se,
     systematic_regions,
@@ -332,9 +333,10 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
         names = [n for n in names if n not in ("coulomb_friction", "viscous_damping", "time_delay")]
     library = dict(CAUSES)
     search = _Search(prep, folds, min_delta_bic, min_heldout_gain, library)
-    if "coulomb_friction" in names:  # the search's friction is the trial's likeliest law, its fit already made
-        library["coulomb_friction"], search.fits["coulomb_friction"] = likeliest_friction_law(prep)
-        search.causes["coulomb_friction"] = library["coulomb_friction"]
+    for n in LAW_VARIANTS:  # the search's friction and drift are the trial's likeliest laws, their fits already made
+        if n in names:
+            library[n], search.fits[n] = likeliest_law(prep, n)
+            search.causes[n] = library[n]
     for n in names:
         search.fit((n,))
     fits = {n: search.fits[n] for n in names}
@@ -479,4 +481,4 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
 
 
 __all__ = ["LOCAL_STOP_T", "MAX_RATE_HZ", "Candidate", "CauseFit", "Diagnosis", "diagnose", "effective_n", "fit_cause",
-           "likeliest_friction_law", "magnitude"]
+           "likeliest_law", "magnitude"]

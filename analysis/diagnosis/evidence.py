@@ -12,13 +12,12 @@ import numpy as np
 from .causes import (
     ACCEL_WINDOWS_S,
     CAUSES,
-    FRICTION_LAWS,
+    LAW_VARIANTS,
     SHAPE_VARIANTS,
     Cause,
     Prepared,
     _signs,
     compound,
-    friction_cause,
 )
 from .fitting import CauseFit, fit_cause
 
@@ -102,17 +101,36 @@ class VariantFit:
     se: dict[str, float]
 
 
-def likeliest_friction_law(prep: Prepared) -> tuple[Cause, CauseFit]:
-    """The friction cause with the smooth Coulomb law (:data:`causes.FRICTION_LAWS`) that fits this trial best
-    beside the baseline (each at its best width), and that fit.
+def likeliest_law(prep: Prepared, cause_name: str) -> tuple[Cause, CauseFit]:
+    """The law of ``cause_name`` (:data:`causes.LAW_VARIANTS`) with the lowest BIC beside the baseline on this
+    trial (each at its best nonlinear parameters; every law judged at the effective sample size of the
+    simplest law's residual), and that fit. The search then uses it.
 
-    The laws have the same parameters; the search then uses the likeliest. With tanh always, an arctan
-    friction's slow approach to its amplitude was left for a second cause: a fast ankle sweep with friction
-    alone (`diagnosis_wide` seed 11001) was named friction + damping (ΔBIC −25); with the arctan law,
-    friction alone (its RSS 126.1 against tanh's 130.7 N·m²).
+    Friction: a smooth Coulomb law (tanh, algebraic, arctan) with or without Stribeck's static excess. With
+    tanh always, an arctan friction's slow approach to its amplitude was left for a second cause: a fast ankle
+    sweep with friction alone (`diagnosis_wide` seed 11001) was named friction + damping (ΔBIC −25); with the
+    arctan law, friction alone (its RSS 126.1 against tanh's 130.7 N·m²). A Stribeck peak after each reversal
+    is what a burst or a delay would otherwise take. Drift: linear, or a smooth function of time.
     """
-    fitted = [(cause, fit_cause(prep, cause)) for cause in (friction_cause(law) for law in FRICTION_LAWS)]
-    return min(fitted, key=lambda cf: cf[1].rss / max(cf[1].n, 1))
+    laws = LAW_VARIANTS[cause_name]
+    # the plain laws first; then the extensions of the likeliest one ("<law> with …"), each fitted once
+    fitted: dict[str, tuple[Cause, CauseFit]] = {}
+    for name, make in laws.items():
+        if " with " not in name:
+            cause = make()
+            fitted[name] = (cause, fit_cause(prep, cause))
+    n_eff = effective_n(prep.torque - next(iter(fitted.values()))[1].prediction)
+
+    def best(names: list[str]) -> str:
+        return min(names, key=lambda n: bic(fitted[n][1], n_eff))
+
+    plain = best(list(fitted))
+    for name, make in laws.items():
+        if name.startswith(f"{plain} with "):
+            cause = make()
+            fitted[name] = (cause, fit_cause(prep, cause))
+    chosen = best([n for n in fitted if n == plain or n.startswith(f"{plain} with ")])
+    return fitted[chosen][0], fitted[chosen][1]
 
 
 def magnitude_variants(prep: Prepared, cause_name: str, stop_angle_rad: float = math.nan
@@ -120,7 +138,8 @@ def magnitude_variants(prep: Prepared, cause_name: str, stop_angle_rad: float = 
     """The modelling choices the data tell apart only weakly behind ``cause_name``'s magnitude: (label,
     signals with their baseline, the causes replaced). Empty when there are none.
 
-    - A shape (:data:`causes.SHAPE_VARIANTS`): smooth Coulomb laws, burst shapes. With one shape only,
+    - A law (:data:`causes.LAW_VARIANTS`): smooth Coulomb laws with or without a Stribeck excess; a linear or
+      smooth drift. A shape (:data:`causes.SHAPE_VARIANTS`): burst shapes. With one shape only,
       the 95 % intervals held the independent generator's truth (an arctan friction law, a Hann burst)
       for friction amplitudes in 0.57 (AFO), 0.69 (knee), 0.80 (ankle) of trials and for burst
       amplitudes in 0.78–0.80 (seeds 140000–141001).
@@ -132,6 +151,8 @@ def magnitude_variants(prep: Prepared, cause_name: str, stop_angle_rad: float = 
     if cause_name == "inertia":
         return [(f"acceleration over {1000 * w:.0f} ms", Prepared.of(prep.trial, None, accel_window_s=w), {})
                 for w in ACCEL_WINDOWS_S]
+    if cause_name in LAW_VARIANTS:  # laws of different parameter counts: the BIC weights pay for the extra ones
+        return [(law, prep, {cause_name: make()}) for law, make in LAW_VARIANTS[cause_name].items()]
     if cause_name in SHAPE_VARIANTS:
         return [(shape, prep, {cause_name: make()}) for shape, make in SHAPE_VARIANTS[cause_name].items()]
     if cause_name == "hard_stop" and prep.trial.kind in ("knee", "ankle") and math.isfinite(stop_angle_rad):

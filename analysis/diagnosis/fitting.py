@@ -148,14 +148,14 @@ def _search(prep: Prepared, cause: Cause, mask: np.ndarray, refine: bool) -> tup
     if refine and not isinstance(grids, np.ndarray) and len(grids) == 1:
         nl = (_refine_scalar(lambda v: _rss(prep, cause, (v,), mask)[0] / max(_rss(prep, cause, (v,), mask)[1], 1),
                              grids[0], nl[0]),)
-    elif refine and len(nl) == 2:  # the burst: (start, duration), held to the physiological bounds
+    elif refine and cause.name == "activation_burst":  # (start, duration), held to the physiological bounds
         def f(v: np.ndarray) -> float:
             return _rss(prep, cause, burst_bounds(prep, (float(v[0]), float(v[1]))), mask)[0]
         res = minimize(f, np.array(nl), method="Nelder-Mead", options={"xatol": 1e-3, "fatol": 1e-9, "maxiter": 200})
         cand = burst_bounds(prep, (float(res.x[0]), float(res.x[1])))
         if _rss(prep, cause, cand, mask)[0] <= _rss(prep, cause, nl, mask)[0]:
             nl = cand
-    if len(nl) == 2:
+    if cause.name == "activation_burst":
         nl = burst_bounds(prep, nl)
     return nl
 
