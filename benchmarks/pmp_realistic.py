@@ -168,20 +168,32 @@ def run(quick: bool = False) -> dict[str, Any]:
     partial = Path(os.environ.get("PMP_REALISTIC_PARTIAL", "pmp_realistic.partial.json"))
     subjects: list[dict[str, Any]] = []
     failed: list[dict[str, Any]] = []
+    riener: dict[str, Any] | None = None
+    # PMP_REALISTIC_RESUME: a run stopped early (its results or partial file): its subjects are kept, only the
+    # others are measured (the same seeds and code: a subject's fit does not depend on the others)
+    resume = os.environ.get("PMP_REALISTIC_RESUME", "").strip()
+    if resume:
+        earlier = json.loads(Path(resume).read_text())
+        subjects = [r for r in earlier.get("subjects", []) if (r["seed"], r["variant"]) in set(jobs)]
+        riener = earlier.get("riener") if not (earlier.get("riener") or {}).get("failed") else None
+        jobs = [j for j in jobs if j not in {(r["seed"], r["variant"]) for r in subjects}]
+        print(f"resuming {resume}: {len(subjects)} subjects kept, {len(jobs)} to measure", flush=True)
     with ProcessPoolExecutor(max_workers=2) as pool:
-        riener_future = pool.submit(riener_case)
+        riener_future = pool.submit(riener_case) if riener is None else None
         futures = [pool.submit(_guarded, seed, v, quick) for seed, v in jobs]
         for f in as_completed(futures):
             r = f.result()
             (failed if "failed" in r else subjects).append(r)
-            done = riener_future.done() and riener_future.exception() is None
+            done = riener_future is None or (riener_future.done() and riener_future.exception() is None)
             partial.write_text(json.dumps({"subjects": subjects, "failed": failed,
-                                           "riener": riener_future.result() if done else None}, default=str))
-        try:
-            riener = riener_future.result()
-        except Exception as err:
-            riener = {"failed": f"{type(err).__name__}: {err}", "named": "-", "plain_misfit": float("nan"),
-                      "misfit": float("nan"), "determined": []}
+                                           "riener": (riener if riener_future is None else riener_future.result())
+                                           if done else None}, default=str))
+        if riener_future is not None:
+            try:
+                riener = riener_future.result()
+            except Exception as err:
+                riener = {"failed": f"{type(err).__name__}: {err}", "named": "-", "plain_misfit": float("nan"),
+                          "misfit": float("nan"), "determined": []}
     return summarise(subjects, failed, riener, quick, per)
 
 

@@ -116,6 +116,8 @@ def free_parameters(leg: LegMuscles, trials: list[PmpTrial]) -> ParameterSet:
 
 #: order of the Taylor expansion of path length and moment arm about the measured angle inside the fit
 PATH_TAYLOR_ORDER = 3
+#: trials' path expansions a leg keeps (a model-level diagnosis revisits a dozen trials' at one set of anchors)
+PATH_CACHE_SIZE = 64
 
 
 def path_taylor(leg: LegMuscles, trial: PmpTrial, anchors_rad: np.ndarray) -> tuple[list[str], np.ndarray]:
@@ -131,6 +133,9 @@ def path_taylor(leg: LegMuscles, trial: PmpTrial, anchors_rad: np.ndarray) -> tu
     uses the tables themselves."""
     import casadi as ca
 
+    key = (trial.joint, tuple(sorted(trial.fixed_rad.items())), leg.length_scale, anchors_rad.tobytes())
+    if key in leg.path_cache:  # the model-level diagnosis fits the same trials again and again
+        return leg.path_cache[key]
     names = [m for m in MUSCLES if trial.joint in leg.paths[m].joints]
     x = ca.SX.sym("x")
     angles = {"hip": trial.fixed_rad.get("hip", 0.0), "knee": trial.fixed_rad.get("knee", 0.0),
@@ -143,7 +148,10 @@ def path_taylor(leg: LegMuscles, trial: PmpTrial, anchors_rad: np.ndarray) -> tu
                 rows.append(d / math.factorial(k))
                 d = ca.jacobian(d, x)
     f = ca.Function("taylor", [x], [ca.vertcat(*rows)]).map(anchors_rad.size)
-    return names, np.asarray(f(anchors_rad.reshape(1, -1)))
+    if len(leg.path_cache) >= PATH_CACHE_SIZE:
+        leg.path_cache.clear()
+    leg.path_cache[key] = (names, np.asarray(f(anchors_rad.reshape(1, -1))))
+    return leg.path_cache[key]
 
 
 def muscle_moment(leg: LegMuscles, m: str, joint: str, q: dict[str, Any], ls: Any, strain: Any, lt_norm: Any,

@@ -44,6 +44,8 @@ class LegMuscles:
     paths: dict[str, MusclePath] = field(default_factory=load_paths)
     length_scale: float = 1.0
     params: dict[str, MuscleParameters] = field(default_factory=dict)
+    #: path Taylor coefficients already computed for this leg (model.path_taylor), by trial geometry and anchors
+    path_cache: dict[tuple[Any, ...], Any] = field(default_factory=dict, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         for m in MUSCLES:

