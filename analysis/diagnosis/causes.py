@@ -38,7 +38,8 @@ FRICTION_WIDTHS_RAD_S = np.deg2rad(np.array([0.25, 0.5, 1.0, 2.0, 4.0]))
 #: smooth Coulomb laws s(v) of the same slope at zero (v = velocity / width): friction = amplitude · s(v).
 #: They approach the amplitude differently (exponentially, algebraically, like 1/v), and a trial of
 #: slow sweeps tells them apart only weakly: the search uses the trial's likeliest
-#: (engine.likeliest_friction_law) and the amplitude's interval averages over all (engine.magnitude_variants)
+#: (evidence.likeliest_law, with or without a Stribeck excess: LAW_VARIANTS) and the amplitude's interval
+#: averages over all (evidence.magnitude_variants)
 FRICTION_LAWS: dict[str, Callable[[np.ndarray], np.ndarray]] = {
     "tanh": np.tanh,
     "algebraic": lambda v: v / np.sqrt(1.0 + v * v),
