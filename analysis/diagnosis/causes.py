@@ -422,7 +422,6 @@ def burst_cause(shape: str) -> Cause:
 #: causes whose shape is a modelling choice the data tell apart only weakly: each variant (a name and
 #: the cause with that shape), over which a named cause's magnitude is averaged
 SHAPE_VARIANTS: dict[str, dict[str, Callable[[], Cause]]] = {
-    "coulomb_friction": {law: functools.partial(friction_cause, law) for law in FRICTION_LAWS},
     "activation_burst": {shape: functools.partial(burst_cause, shape) for shape in BURST_SHAPES},
 }
 #: laws of one cause with different numbers of parameters: the search uses the one with the lowest BIC on the
