@@ -50,7 +50,7 @@ from ..trial_csv import NOMINAL_RANGE_DEG
 from .geometry import MUSCLES
 from .model import PmpTrial, Subject, eliminate_tendons, muscles_moment
 from .muscles import COMPLIANT, LegMuscles
-from .problem import PmpResult, estimate
+from .problem import PmpResult, build_problem, estimate, solve
 
 FRICTION_SPEED_RAD_S = math.radians(1.0)
 #: when the plain model's held-out error is this many times its in-sample error, the folds do not
@@ -475,29 +475,59 @@ def _worker_init(context: dict[str, Any]) -> None:
     _WORKER.update(context)
 
 
-def _fold_fit(job: tuple[str | None, Fold], context: dict[str, Any] | None = None) -> tuple[float, dict[str, float]]:
-    """(held-out RMSE in N·m, the extension's parameters) of one model fitted without one fold (``context``:
-    the trials, subject, leg, intervals and start; default the worker process's)."""
-    key, fold = job
+#: a candidate's job: its name (None: the plain model), the folds, and when to fit it on every trial as well
+#: (None: never; else the reference's RMSE per fold, the ratio it must beat, and whether every fold must be better)
+WholeRule = tuple[dict[str, float], float, bool] | None
+FitJob = tuple[str | None, list[Fold], WholeRule]
+#: what a job returns: per fold (held-out RMSE N·m, the extension's parameters), and the fit on every trial
+#: (the extension's parameters, the muscles') when the rule asked for it
+FitOutcome = tuple[list[tuple[float, dict[str, float]]], tuple[dict[str, float], dict[str, float]] | None]
+
+
+def _heldout_rms(fit: PmpResult, fold: Fold, w: dict[str, Any], ext: Extension | None) -> float:
+    sq = []
+    for j, idx in fold.predicted.items():
+        _, pred = predict_torque_nm(fit, w["trials"][j], w["subject"], w["leg"], ext, indices=idx)
+        sq.append((w["trials"][j].torque_nm[idx] - pred) ** 2)
+    return float(np.sqrt(np.mean(np.concatenate(sq))))
+
+
+def _key_fits(job: FitJob, context: dict[str, Any] | None = None) -> FitOutcome:
+    """One candidate fitted without each fold in turn, then on every trial when ``job``'s rule asks (its folds
+    predict better than the reference's by the ratio). Block folds share one built problem (the held-out
+    windows are its parameters: one build and one expansion serve every fold, each solved from the same
+    start, so the fits are those of separate builds); folds leaving out whole trials are built each."""
+    key, folds, rule = job
     w = _WORKER if context is None else context
     trials, subject, leg = w["trials"], w["subject"], w["leg"]
     ext = get_extension(key) if key else None
-    fit = estimate([trials[j] for j in fold.fitted], subject, leg=leg, intervals=w["intervals"], extension=ext,
-                   initial=w["initial"],
-                   held_out_s=[list(win) for win in fold.held_out_s] if fold.held_out_s is not None else None)
-    sq = []
-    for j, idx in fold.predicted.items():
-        _, pred = predict_torque_nm(fit, trials[j], subject, leg, ext, indices=idx)
-        sq.append((trials[j].torque_nm[idx] - pred) ** 2)
-    return float(np.sqrt(np.mean(np.concatenate(sq)))), dict(fit.extension_parameters)
-
-
-def _full_fit(key: str, context: dict[str, Any] | None = None) -> tuple[dict[str, float], dict[str, float]]:
-    """(the extension's parameters, the muscle parameters) of one extended model fitted on every trial."""
-    w = _WORKER if context is None else context
-    fit = estimate(w["trials"], w["subject"], leg=w["leg"], intervals=w["intervals"], extension=get_extension(key),
-                   initial=w["initial"])
-    return dict(fit.extension_parameters), dict(fit.parameters)
+    shared = None
+    if all(f.held_out_s is not None and len(f.fitted) == len(trials) for f in folds):
+        shared = build_problem(trials, subject, leg=leg, intervals=w["intervals"], extension=ext, initial=w["initial"],
+                               expand=True)
+    out = []
+    for fold in folds:
+        held = [list(win) for win in fold.held_out_s] if fold.held_out_s is not None else None
+        if shared is not None:
+            shared.leave_out(held)
+            fit = solve(shared)
+        else:
+            fit = estimate([trials[j] for j in fold.fitted], subject, leg=leg, intervals=w["intervals"], extension=ext,
+                           initial=w["initial"], held_out_s=held, expand=ext is not None)
+        out.append((_heldout_rms(fit, fold, w, ext), dict(fit.extension_parameters)))
+    whole = None
+    if rule is not None and key is not None:
+        reference, below, every = rule
+        ratios = [rms / reference[f.label] for f, (rms, _) in zip(folds, out) if reference.get(f.label, 0) > 0]
+        if ratios and float(np.exp(np.mean(np.log(ratios)))) < below and (not every or all(r < 1 for r in ratios)):
+            if shared is not None:
+                shared.leave_out(None)
+                fit = solve(shared)
+            else:
+                fit = estimate(trials, subject, leg=leg, intervals=w["intervals"], extension=ext, initial=w["initial"],
+                               expand=True)
+            whole = (dict(fit.extension_parameters), dict(fit.parameters))
+    return out, whole
 
 
 class _FitPool:
@@ -525,15 +555,10 @@ class _FitPool:
         if self.pool is not None:
             self.pool.shutdown(cancel_futures=True)
 
-    def fold_fits(self, jobs: list[tuple[str | None, Fold]]) -> list[tuple[float, dict[str, float]]]:
+    def fits(self, jobs: list[FitJob]) -> list[FitOutcome]:
         if self.pool is None:
-            return [_fold_fit(j, self.context) for j in jobs]
-        return list(self.pool.map(_fold_fit, jobs))
-
-    def full_fits(self, keys: list[str]) -> list[tuple[dict[str, float], dict[str, float]]]:
-        if self.pool is None:
-            return [_full_fit(k, self.context) for k in keys]
-        return list(self.pool.map(_full_fit, keys))
+            return [_key_fits(j, self.context) for j in jobs]
+        return list(self.pool.map(_key_fits, jobs))
 
 
 def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None = None, intervals: int = 24,
@@ -582,22 +607,18 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
     t975 = float(student_t.ppf(0.975, k - 1))
     full_fits: dict[str, tuple[dict[str, float], dict[str, float]]] = {}
 
-    def fit_folds(pool: _FitPool, keys: list[str | None]) -> None:
-        jobs = [(key, fold) for key in keys for fold in folds]
-        for (key, fold), (rms, ext_params) in zip(jobs, pool.fold_fits(jobs), strict=True):
-            heldout.setdefault(key or "none", {})[fold.label] = rms
-            fold_params.setdefault(key or "none", []).append(ext_params)
-
-    def fit_whole(pool: _FitPool, keys: list[str]) -> None:
-        """The fit on every trial, for the candidates whose parameters and the muscles' shifts are reported as
-        such: those that predict the folds better (named, a close rival, a pair) or nearly as well as the plain
-        model (absorbed by the muscles). The others are reported with their folds' mean parameters."""
-        keys = [key for key in keys if key not in full_fits]
-        full_fits.update(zip(keys, pool.full_fits(keys), strict=True))
-
-    def worth_a_whole_fit(name: str, reference: str) -> bool:
-        ratio, _ = ratio_to(name, reference)
-        return ratio < ABSORBED_RATIO
+    def fit_folds(pool: _FitPool, keys: list[str | None], whole: WholeRule = None) -> None:
+        """Each candidate without each fold; then on every trial when ``whole``'s rule holds for it: the
+        candidates whose parameters and the muscles' shifts are reported as such, those that predict the folds
+        better (named, a close rival, a pair) or nearly as well as the plain model (absorbed by the muscles).
+        The others are reported with their folds' mean parameters."""
+        jobs: list[FitJob] = [(key, folds, whole) for key in keys]
+        for key, (per_fold, full) in zip(keys, pool.fits(jobs), strict=True):
+            for fold, (rms, ext_params) in zip(folds, per_fold, strict=True):
+                heldout.setdefault(key or "none", {})[fold.label] = rms
+                fold_params.setdefault(key or "none", []).append(ext_params)
+            if full is not None and key is not None:
+                full_fits[key] = full
 
     def ratio_to(name: str, reference: str) -> tuple[float, bool]:
         """Geometric mean over the folds of the held-out RMSE ratio to ``reference``'s, and whether every fold
@@ -633,8 +654,7 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
                                   f"against {in_sample_rms:.3g} N·m in sample): a left-out condition's muscles are not "
                                   "determined by the other conditions; record each condition at least twice so "
                                   "repeats can be left out", [f.label for f in folds], conclusive=False)
-        fit_folds(pool, list(names))
-        fit_whole(pool, [n for n in names if worth_a_whole_fit(n, "none")])
+        fit_folds(pool, list(names), (dict(heldout["none"]), ABSORBED_RATIO, False))
         base = pooled(heldout["none"])
         findings = [finding(EXTENSIONS[n]) for n in names]
         passing = [f for f in findings if f.heldout_ratio < max_heldout_ratio and f.every_fold_better]
@@ -657,10 +677,8 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
                    and (EXTENSIONS[best.name].angle is None or EXTENSIONS[f.name].angle is None)]
         pairs = [combine(EXTENSIONS[best.name], EXTENSIONS[f.name]) for f in seconds]
         if pairs:
-            fit_folds(pool, [p.name for p in pairs])
             # a pair is fitted whole only when it may be named (its folds better than the best alone's by the margin)
-            fit_whole(pool, [p.name for p in pairs if ratio_to(p.name, best.name)[0] < max_heldout_ratio
-                             and ratio_to(p.name, best.name)[1]])
+            fit_folds(pool, [p.name for p in pairs], (dict(heldout[best.name]), max_heldout_ratio, True))
     chosen = best
     for pair in pairs:
         findings.append(finding(pair))

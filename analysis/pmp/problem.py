@@ -89,13 +89,24 @@ class PmpProblem:
     n_ext: int
     intervals: int
     max_iter: int
+    #: per trial, the torque term's Simpson weights: the Opti parameter, the points' times (s), the full weights
+    torque_weights: list[tuple[Any, np.ndarray, np.ndarray]] = field(default_factory=list)
+
+    def leave_out(self, held_out_s: list[list[tuple[float, float]]] | None) -> None:
+        """Leave the torque in these windows (per trial, (start, end) s) out of the cost of the next solve;
+        None: every sample in. The built solver is kept (one build serves every held-out fold)."""
+        for i_trial, (param, times_s, full) in enumerate(self.torque_weights):
+            w = full.copy()
+            for start_s, end_s in (held_out_s[i_trial] if held_out_s else []):
+                w[(times_s >= start_s) & (times_s <= end_s)] = 0.0
+            self.opti.set_value(param, w)
 
 
 def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None = None, intervals: int = 40,
              max_iter: int = 300, initial: dict[str, float] | None = None, parameters: ParameterSet | None = None,
              moment: Any = None, extension: Any = None,
              progress: Callable[[int, float], None] | None = None,
-             held_out_s: list[list[tuple[float, float]]] | None = None) -> PmpResult:
+             held_out_s: list[list[tuple[float, float]]] | None = None, expand: bool = False) -> PmpResult:
     """Fit the passive parameters shared by ``trials`` (all at once): :func:`build_problem`, then :func:`solve`.
 
     ``progress(iteration, objective)`` is called after every IPOPT iteration (a progress line for
@@ -115,15 +126,17 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
     :raises InputError: a trial is empty or moves another joint than knee/ankle.
     """
     problem = build_problem(trials, subject, leg=leg, intervals=intervals, max_iter=max_iter, initial=initial,
-                            parameters=parameters, moment=moment, extension=extension, held_out_s=held_out_s)
+                            parameters=parameters, moment=moment, extension=extension, held_out_s=held_out_s, expand=expand)
     return solve(problem, progress)
 
 
 def build_problem(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None = None, intervals: int = 40,
                   max_iter: int = 300, initial: dict[str, float] | None = None, parameters: ParameterSet | None = None,
                   moment: Any = None, extension: Any = None,
-                  held_out_s: list[list[tuple[float, float]]] | None = None) -> PmpProblem:
-    """The collocation problem of :func:`estimate` (its arguments), built and not solved.
+                  held_out_s: list[list[tuple[float, float]]] | None = None, expand: bool = False) -> PmpProblem:
+    """The collocation problem of :func:`estimate` (its arguments), built and not solved; ``expand``: the
+    problem's functions expanded into scalar operations for the solver (slower to make, faster per iteration:
+    for a problem solved for several held-out folds, :meth:`PmpProblem.leave_out`).
 
     :raises InputError: a trial is empty or moves another joint than knee/ankle.
     """
@@ -150,21 +163,27 @@ def build_problem(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles |
     else:
         opti.subject_to(e_scaled == 0)
     problem = PmpProblem(opti, pset, p_scaled, e_scaled, 0, 0, [], extension, n_ext, intervals, max_iter)
-    for i_trial, t in enumerate(trials):
-        _add_trial(problem, t, subject, leg, moment, held_out_s[i_trial] if held_out_s else [])
+    for t in trials:
+        _add_trial(problem, t, subject, leg, moment)
     prior_sd = np.array([PRIOR_RELATIVE_SD[n.split(".")[1]] for n in pset.names]) if parameters is None \
         else np.full(n_par, 0.1)
     problem.regularisation = PRIOR_WEIGHT * ca.sumsqr((p_scaled - 1.0) / ca.DM(prior_sd))
     if n_ext:  # a vanishing pull toward no extension: a parameter no trial touches stays at 0
         problem.regularisation = problem.regularisation + 1e-6 * ca.sumsqr(e_scaled)
     opti.minimize(problem.cost + problem.regularisation)
-    opti.solver("ipopt", {"print_time": False}, {"print_level": 0, "max_iter": max_iter, "tol": 1e-8,
-                                                  "sb": "yes"})
+    # expanded into scalar operations once, when the solver is made (≈ 2 s), each IPOPT iteration is 6–8×
+    # cheaper (end-range structures on six OpenSim trials, 12 intervals: 14.8 → 1.8 s per solve): worth it for a
+    # problem solved again and again or over many iterations, not for one plain fit (20 iterations: 5.3 → 7.1 s).
+    # Only the paths' Taylor polynomials are expanded: with the B-spline tables (a moving joint axis, another
+    # passive model) the axis fit went 43 → 40 s per solve and 2 → 14 s to build
+    expand = expand and moment is None and not (n_ext and extension.angle is not None)
+    opti.solver("ipopt", {"print_time": False, "expand": expand},
+                {"print_level": 0, "max_iter": max_iter, "tol": 1e-8, "sb": "yes"})
+    problem.leave_out(held_out_s)
     return problem
 
 
-def _add_trial(problem: PmpProblem, t: PmpTrial, subject: Subject, leg: LegMuscles, moment: Any,
-               held_out: list[tuple[float, float]]) -> None:
+def _add_trial(problem: PmpProblem, t: PmpTrial, subject: Subject, leg: LegMuscles, moment: Any) -> None:
     """One trial's states, controls, Hermite–Simpson dynamics and cost terms, added to ``problem``."""
     import casadi as ca
 
@@ -242,11 +261,10 @@ def _add_trial(problem: PmpProblem, t: PmpTrial, subject: Subject, leg: LegMuscl
     w[1::2] = 4.0
     w[0] = w[-1] = 1.0
     w *= (dt / 2) / 3 / (tt[-1] - tt[0])  # Simpson weights, normalised to a mean
-    w_u = w.copy()
-    for start_s, end_s in held_out:
-        w_u[(tt >= start_s) & (tt <= end_s)] = 0.0
+    w_u = opti.parameter(n_pts)  # the torque's weights: zero in a held-out window (PmpProblem.leave_out)
+    problem.torque_weights.append((w_u, tt, w))
     err = ((q - qm) / SIGMA_Q_RAD) ** 2 + ((v - vm) / SIGMA_V_RAD_S) ** 2
-    problem.cost = problem.cost + ca.dot(ca.DM(w), err) + ca.dot(ca.DM(w_u), ((u * u_scale - um) / SIGMA_U_NM) ** 2)
+    problem.cost = problem.cost + ca.dot(ca.DM(w), err) + ca.dot(w_u, ((u * u_scale - um) / SIGMA_U_NM) ** 2)
     problem.outputs.append((t, tt, q, v, u, u_scale, qm, vm, um))
 
 
@@ -259,6 +277,8 @@ def solve(problem: PmpProblem, progress: Callable[[int, float], None] | None = N
     intervals, max_iter, outputs = problem.intervals, problem.max_iter, problem.outputs
     if progress is not None:
         opti.callback(lambda i: progress(int(i), float(opti.debug.value(cost + reg))))
+    else:
+        opti.callback()  # a problem solved again keeps no earlier solve's callback
     t0 = time.perf_counter()
     try:
         sol: Any = opti.solve()
