@@ -91,6 +91,9 @@ class PmpProblem:
     max_iter: int
     #: per trial, the torque term's Simpson weights: the Opti parameter, the points' times (s), the full weights
     torque_weights: list[tuple[Any, np.ndarray, np.ndarray]] = field(default_factory=list)
+    #: trials whose paths' Taylor anchors follow the fitted joint angle (an extension turns the joint): the Opti
+    #: parameter of the coefficients, the trial, the leg, its index in ``outputs``, the current anchors (rad)
+    anchors: list[tuple[Any, PmpTrial, LegMuscles, int, np.ndarray]] = field(default_factory=list)
 
     def leave_out(self, held_out_s: list[list[tuple[float, float]]] | None) -> None:
         """Leave the torque in these windows (per trial, (start, end) s) out of the cost of the next solve;
@@ -176,7 +179,7 @@ def build_problem(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles |
     # problem solved again and again or over many iterations, not for one plain fit (20 iterations: 5.3 → 7.1 s).
     # Only the paths' Taylor polynomials are expanded: with the B-spline tables (a moving joint axis, another
     # passive model) the axis fit went 43 → 40 s per solve and 2 → 14 s to build
-    expand = expand and moment is None and not (n_ext and extension.angle is not None)
+    expand = expand and moment is None
     opti.solver("ipopt", {"print_time": False, "expand": expand},
                 {"print_level": 0, "max_iter": max_iter, "tol": 1e-8, "sb": "yes"})
     problem.leave_out(held_out_s)
@@ -222,14 +225,20 @@ def _add_trial(problem: PmpProblem, t: PmpTrial, subject: Subject, leg: LegMuscl
     if options and not own_leg:
         raise InputError(f"{extension.name} changes the leg's muscles; it cannot extend another passive model")
     local_in: list[Any] = []
-    # the leg's paths as Taylor polynomials about the measured angle of each point, unless an
-    # extension turns the joint away from the arm's angle (by degrees: the expansion would be off)
-    if own_leg and not (n_ext and extension.angle is not None):
+    # the leg's paths as Taylor polynomials about an anchor angle at each point: the measured angle; when an
+    # extension turns the joint away from the arm's angle (an axis misalignment, by degrees) the anchors are
+    # parameters that :func:`solve` moves to the fitted joint angle until they agree (:data:`REANCHOR_TOLERANCE_RAD`)
+    if own_leg:
         _, coef = path_taylor(leg, t, qm)
         coef = np.vstack([qm.reshape(1, -1), coef])
         geo = ca.SX.sym("geo", coef.shape[0])
         muscles, residuals, calf = passive(t, q_joint, par_s, (geo[0], geo[1:]), **options)
         local_in = [geo]
+        if n_ext and extension.angle is not None:
+            anchored = opti.parameter(*coef.shape)
+            opti.set_value(anchored, coef)
+            problem.anchors.append((anchored, t, leg, len(problem.outputs), coef[0].copy()))
+            coef = anchored
     else:
         muscles, residuals, calf = passive(t, q_joint, par_s, **options)
     if n_ext and extension.angle is not None:  # the muscles' moment reaches the arm by virtual work
@@ -268,6 +277,33 @@ def _add_trial(problem: PmpProblem, t: PmpTrial, subject: Subject, leg: LegMuscl
     problem.outputs.append((t, tt, q, v, u, u_scale, qm, vm, um))
 
 
+#: the paths' Taylor anchors agree with the fitted joint angle when no point's differs by more than this
+#: (rad): within 0.3° the polynomials are the tables to 1.3e-7 m of length and 5.8e-7 m of moment arm
+REANCHOR_TOLERANCE_RAD = np.deg2rad(0.3)
+#: at most this many solves, each from the same start with the anchors moved to the last solve's joint angles
+REANCHOR_ROUNDS = 4
+
+
+def _reanchor(problem: PmpProblem, sol: Any) -> float:
+    """Move the Taylor anchors of the trials whose joint an extension turns to ``sol``'s joint angles; the
+    largest move (rad), 0 when no trial has such anchors."""
+    import casadi as ca
+
+    if not problem.anchors:
+        return 0.0
+    ext = (np.atleast_1d(np.asarray(sol.value(problem.e_scaled)).ravel())
+           * np.asarray(problem.extension.typical, dtype=float)).tolist()
+    moved = 0.0
+    for i, (param, trial, leg, output, anchors) in enumerate(problem.anchors):
+        q_arm = np.asarray(sol.value(problem.outputs[output][2])).ravel()
+        joint = np.asarray(ca.DM(problem.extension.joint_angle(trial, ca.DM(q_arm), ext))).ravel()
+        moved = max(moved, float(np.max(np.abs(joint - anchors))))
+        _, coef = path_taylor(leg, trial, joint)
+        problem.opti.set_value(param, np.vstack([joint.reshape(1, -1), coef]))
+        problem.anchors[i] = (param, trial, leg, output, joint)
+    return moved
+
+
 def solve(problem: PmpProblem, progress: Callable[[int, float], None] | None = None) -> PmpResult:
     """Solve a built problem with IPOPT; a fit that does not converge is a result with ``success=False``."""
     import time
@@ -280,13 +316,16 @@ def solve(problem: PmpProblem, progress: Callable[[int, float], None] | None = N
     else:
         opti.callback()  # a problem solved again keeps no earlier solve's callback
     t0 = time.perf_counter()
-    try:
-        sol: Any = opti.solve()
-        success, message = True, "IPOPT converged"
-    except RuntimeError as err:  # the last iterate is still a result: success=False says so
-        sol = opti.debug
-        success, message = False, f"IPOPT did not converge ({str(err).splitlines()[-1][:160]}); tried " \
-                                  f"{intervals} intervals per trial, max_iter {max_iter}, from the generic values"
+    for _ in range(REANCHOR_ROUNDS):
+        try:
+            sol: Any = opti.solve()
+            success, message = True, "IPOPT converged"
+        except RuntimeError as err:  # the last iterate is still a result: success=False says so
+            sol = opti.debug
+            success, message = False, f"IPOPT did not converge ({str(err).splitlines()[-1][:160]}); tried " \
+                                      f"{intervals} intervals per trial, max_iter {max_iter}, from the generic values"
+        if not success or _reanchor(problem, sol) <= REANCHOR_TOLERANCE_RAD:
+            break
     solve_s = time.perf_counter() - t0
     est = np.asarray(sol.value(p_scaled)).ravel() * pset.generic
     stats = sol.stats()
