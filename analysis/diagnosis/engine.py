@@ -203,6 +203,11 @@ class _Search:
                 and self.stop_t(model, n_eff) > AFO_STOP_T
         ok = ((d < -need and (added.transient or gain > self.min_heldout_gain)) or strong or local) \
             and (not added.hysteretic or d_flex < -need)
+        if ok and added.name == "inertia":
+            # a moving mass adds inertia; an error may take some of the known limb's and arm's away, never more
+            # than all of it: a total below zero is no mass (a lagging torque channel fits as one: the demo's
+            # ankle sweep read -0.93 kg·m² beside 0.07 known)
+            ok = self.prep.trial.known_inertia_kgm2() + mf.params.get("inertia_kgm2", 0.0) > 0.0
         if ok and added.name == "hard_stop":
             ok = self.stop_peak_to_noise(model) >= MIN_STOP_PEAK_TO_NOISE
             if ok and self.prep.trial.kind in ("knee", "ankle"):

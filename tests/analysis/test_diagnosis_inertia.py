@@ -45,3 +45,11 @@ def test_an_unaccounted_mass_is_named_with_its_size() -> None:
 def test_a_torque_not_said_to_be_a_dynamometers_has_no_known_inertia() -> None:
     trial = _trial(0.0, None, 4)
     assert trial.known_inertia_kgm2() == 0.0 and diagnose(trial).cause == "none"
+
+
+def test_a_negative_total_inertia_is_no_moving_mass() -> None:
+    """A torque that goes with −(known + 0.3 kg·m²)·q̈ (a lagging channel does that) fits an inertia error
+    below minus the known limb's and arm's: no mass is negative, and inertia is not named."""
+    probe = _trial(0.0, ARM, 5)
+    d = diagnose(_trial(-(probe.known_inertia_kgm2() + 0.3), ARM, 5))
+    assert "inertia" not in [d.cause, *(a["cause"] for a in d.also)], d.text()
