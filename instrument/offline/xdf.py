@@ -73,7 +73,13 @@ def _device_channels(kind: str, name: str, labels: list[str], data: np.ndarray,
         cols = [index[label] for label, _, s in expected if s == source]
         shape, dtype = layout[source]
         values = data[:, cols].reshape((len(stamps), *shape)) if shape else data[:, cols[0]]
-        channels[source] = values.astype(np.dtype(dtype))
+        target = np.dtype(dtype)
+        if target.kind in "iu" and values.size and not (
+                np.all(np.isfinite(values)) and np.iinfo(target).min <= np.min(values)
+                and np.max(values) <= np.iinfo(target).max):
+            raise ValueError(f"stream {name!r}: channel {source} holds values that are no {target} (NaN, infinite or "
+                             "out of range): the file is damaged")
+        channels[source] = values.astype(target)
     channels["time_s"] = stamps.astype(float)
     return layout, channels
 
