@@ -484,6 +484,15 @@ FitJob = tuple[str | None, list[Fold], WholeRule]
 FitOutcome = tuple[list[tuple[float, dict[str, float]]], tuple[dict[str, float], dict[str, float]] | None]
 
 
+def fold_ratio(errors: dict[str, float], reference: dict[str, float]) -> tuple[float, bool]:
+    """Geometric mean over the folds of the held-out RMSE ratio ``errors`` / ``reference`` (N·m by fold label), and
+    whether every fold is better: one fold whose left-out blocks are badly extrapolated must not outweigh the
+    others. NaN and False when no reference fold has an error."""
+    ratios = [errors[f] / reference[f] for f in reference if reference[f] > 0]
+    return (float(np.exp(np.mean(np.log(ratios)))) if ratios else float("nan")), bool(ratios) and all(
+        r < 1.0 for r in ratios)
+
+
 def _heldout_rms(fit: PmpResult, fold: Fold, w: dict[str, Any], ext: Extension | None) -> float:
     sq = []
     for j, idx in fold.predicted.items():
@@ -518,8 +527,8 @@ def _key_fits(job: FitJob, context: dict[str, Any] | None = None) -> FitOutcome:
     whole = None
     if rule is not None and key is not None:
         reference, below, every = rule
-        ratios = [rms / reference[f.label] for f, (rms, _) in zip(folds, out) if reference.get(f.label, 0) > 0]
-        if ratios and float(np.exp(np.mean(np.log(ratios)))) < below and (not every or all(r < 1 for r in ratios)):
+        ratio, all_better = fold_ratio({f.label: rms for f, (rms, _) in zip(folds, out)}, reference)
+        if ratio < below and (all_better or not every):
             if shared is not None:
                 shared.leave_out(None)
                 fit = solve(shared)
@@ -621,11 +630,7 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
                 full_fits[key] = full
 
     def ratio_to(name: str, reference: str) -> tuple[float, bool]:
-        """Geometric mean over the folds of the held-out RMSE ratio to ``reference``'s, and whether every fold
-        is better: one fold whose left-out blocks are badly extrapolated must not outweigh the others."""
-        ratios = [heldout[name][f] / heldout[reference][f] for f in heldout[reference] if heldout[reference][f] > 0]
-        return (float(np.exp(np.mean(np.log(ratios)))) if ratios else float("nan")), bool(ratios) and all(
-            r < 1.0 for r in ratios)
+        return fold_ratio(heldout[name], heldout[reference])
 
     def finding(ext: Extension) -> ExtensionFinding:
         if ext.name in full_fits:

@@ -316,7 +316,7 @@ def solve(problem: PmpProblem, progress: Callable[[int, float], None] | None = N
     else:
         opti.callback()  # a problem solved again keeps no earlier solve's callback
     t0 = time.perf_counter()
-    for _ in range(REANCHOR_ROUNDS):
+    for _ in range(REANCHOR_ROUNDS):  # one round unless an extension turns the joint (:func:`_reanchor`)
         try:
             sol: Any = opti.solve()
             success, message = True, "IPOPT converged"
@@ -324,8 +324,12 @@ def solve(problem: PmpProblem, progress: Callable[[int, float], None] | None = N
             sol = opti.debug
             success, message = False, f"IPOPT did not converge ({str(err).splitlines()[-1][:160]}); tried " \
                                       f"{intervals} intervals per trial, max_iter {max_iter}, from the generic values"
-        if not success or _reanchor(problem, sol) <= REANCHOR_TOLERANCE_RAD:
+        moved = _reanchor(problem, sol) if success else 0.0
+        if moved <= REANCHOR_TOLERANCE_RAD:
             break
+    else:
+        message += (f"; the paths' Taylor anchors still moved {np.degrees(moved):.2f}° after {REANCHOR_ROUNDS} solves "
+                    "(the muscles' paths are approximate where the joint turned that far)")
     solve_s = time.perf_counter() - t0
     est = np.asarray(sol.value(p_scaled)).ravel() * pset.generic
     stats = sol.stats()

@@ -67,10 +67,13 @@ def forward_dynamics(trial: PmpTrial, subject: Subject, parameters: dict[str, fl
     muscles = ca.interpolant("muscles", "linear", [grid.tolist()], table.tolist()) if tabulated else f
     symbols: list[Any] = [sym(n) for n in ("q", "v", "u0", "u1", "dt", "s")]
     q, v, u0, u1, dt, s = symbols
-    gravity = subject.gravity_moment_nm(trial.joint, q, trial.fixed_rad, ca.cos)
-    moment = muscles(q) + gravity
-    if extension is not None:
-        moment = moment + extension.moment(trial, q, v, values, gravity)
+
+    def total_moment(muscles_of: Any, q: Any, v: Any) -> Any:
+        """Muscles, gravity and the extension's term (N·m toward positive angle)."""
+        gravity = subject.gravity_moment_nm(trial.joint, q, trial.fixed_rad, ca.cos)
+        return muscles_of(q) + gravity + (extension.moment(trial, q, v, values, gravity) if extension is not None else 0)
+
+    moment = total_moment(muscles, q, v)
     accel = ca.Function("a", [q, v, u0, u1, s], [(u0 + (u1 - u0) * s + moment - DAMPING_NM_S_PER_RAD * v) / inertia])
     x = ca.vertcat(q, v)
     h = dt / SUBSTEPS
@@ -97,10 +100,8 @@ def forward_dynamics(trial: PmpTrial, subject: Subject, parameters: dict[str, fl
         q_sim = np.full(n, np.nan)
     if not np.all(np.isfinite(q_sim)):
         q_sim = np.full(n, np.nan)
-    q_s, v_s = ca.SX.sym("q"), ca.SX.sym("v")  # the holding torque from the moment function itself
-    g_s = subject.gravity_moment_nm(trial.joint, q_s, trial.fixed_rad, ca.cos)
-    exact = f(q_s) + g_s + (extension.moment(trial, q_s, v_s, values, g_s) if extension is not None else 0)
-    holding = ca.Function("u", [q_s, v_s], [-exact]).map(n)
+    q_s, v_s = ca.SX.sym("q"), ca.SX.sym("v")  # the holding torque from the moment function itself, not the table
+    holding = ca.Function("u", [q_s, v_s], [-total_moment(f, q_s, v_s)]).map(n)
     # the torque holding the measured angles at the measured speeds
     model_u = np.asarray(holding(trial.angle_rad.reshape(1, -1), trial.velocity_rad_s.reshape(1, -1))).ravel()
     return Verification(trial.name, trial.time_s, q_sim, model_u,
