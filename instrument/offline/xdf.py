@@ -91,7 +91,11 @@ def _stream_channels(info: dict[str, Any], labels: list[str], units: list[str], 
     labels = labels if len(labels) == n else [f"ch{k + 1}" for k in range(n)]
     units = units if len(units) == n else [""] * n
     if rate > 0 and len(stamps):
-        counter = np.rint((stamps - stamps[0]) * rate).astype(np.int64)
+        ticks = np.rint((stamps - stamps[0]) * rate)
+        if not np.all(np.abs(ticks) < 2.0 ** 62):
+            raise ValueError(f"stream {str(_first(info, 'name', ''))!r}: its time stamps span more than a counter holds "
+                             f"at {rate:g} Hz: the file is damaged")
+        counter = ticks.astype(np.int64)
     else:
         counter = np.arange(len(stamps), dtype=np.int64)
     layout = dict(StreamBlock.LAYOUT)
@@ -133,6 +137,9 @@ def read_xdf(path: str | Path) -> dict[str, tuple[DeviceSpec, dict[str, np.ndarr
         stamps = np.asarray(s.get("time_stamps", []), dtype=float)
         if stamps.size == 0:
             continue
+        if not np.all(np.isfinite(stamps)):
+            raise XdfImportError(p, f"stream {_first(info, 'name')!r}: a time stamp is NaN or infinite: the file is "
+                                    "damaged")
         try:
             data = np.asarray(s.get("time_series"), dtype=float)
         except (TypeError, ValueError) as err:
@@ -151,7 +158,10 @@ def read_xdf(path: str | Path) -> dict[str, tuple[DeviceSpec, dict[str, np.ndarr
                         "source_id": str(_first(info, "source_id", ""))}
             devices[kind] = (DeviceSpec(layout, identity), channels)
         else:
-            layout, channels, identity = _stream_channels(info, labels, units, data, stamps)
+            try:
+                layout, channels, identity = _stream_channels(info, labels, units, data, stamps)
+            except ValueError as err:
+                raise XdfImportError(p, str(err)) from err
             devices[_device_name(name, set(devices) | set(DEVICE_BLOCKS))] = (DeviceSpec(layout, identity), channels)
     if not devices:
         raise XdfImportError(p, "no stream with samples")

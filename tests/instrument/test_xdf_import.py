@@ -4,6 +4,7 @@ devices, the goniometer's hip in the passive fit; damaged files refused in one l
 from __future__ import annotations
 
 import math
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -110,3 +111,18 @@ def test_a_bit_flipped_xdf_file_is_read_or_refused_in_one_typed_line(tmp_path: P
         assert str(err).startswith(str(path)) and "\n" not in str(err)
     else:
         assert devices and all(len(ch["time_s"]) == len(ch["counter"]) for _, ch in devices.values())
+
+
+def test_a_stream_whose_time_stamp_is_not_finite_is_refused_in_one_line(tmp_path: Path) -> None:
+    from instrument.offline.xdf import XdfImportError, read_xdf
+
+    streams = _streams()
+    emg = streams[2]
+    emg.time_s = emg.time_s.copy()
+    emg.time_s[500] = np.nan
+    path = write_xdf(tmp_path / "nan_stamp.xdf", streams)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)  # refused before any cast of a NaN
+        with pytest.raises(XdfImportError, match="'EMG'.*time stamp is NaN or infinite") as info:
+            read_xdf(path)
+    assert "\n" not in str(info.value)
