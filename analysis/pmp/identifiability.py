@@ -10,7 +10,16 @@ from typing import Any
 
 import numpy as np
 
-from .model import PmpTrial, Subject, eliminate_tendons, muscles_moment
+from .model import (
+    PmpTrial,
+    Subject,
+    eliminate_tendons,
+    muscles_moment,
+    other_joint,
+    set_angle_condition,
+    set_angle_label,
+    with_set_angles,
+)
 from .muscles import LegMuscles
 from .problem import PmpResult
 
@@ -138,9 +147,13 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     # what was measured, not fitted, as nuisances with their measurement SD as prior: the shank (it scales
     # every path; a 5 mm tape error moved both determined slack lengths by 1.3 %, outside intervals of
     # ±0.4 % that took the shank as exact), each fixed joint's set angle, and the body mass (limb weight)
-    conditions = sorted({(t.joint, other_joint(t), round(t.fixed_rad.get(other_joint(t), 0.0), 6)) for t in trials})
-    measured = (["shank_length_scale"] + [f"{o}_set_angle_{math.degrees(a):.0f}deg ({j} trials)" for j, o, a in conditions]
-                + ["mass_kg"])
+    conditions = sorted({set_angle_condition(t) for t in trials})
+    measured = ["shank_length_scale"] + [set_angle_label(c) for c in conditions] + ["mass_kg"]
+    # set angles the fit estimated (PmpResult.set_angle_offsets_rad) are nuisances fitted with their prior: the
+    # model is evaluated at them and they are profiled out of the muscles' information with the prior's precision
+    set_angles_fitted = bool(result.set_angle_offsets_rad)
+    condition_of = [set_angle_condition(t) for t in trials]
+    trials = with_set_angles(trials, result.set_angle_offsets_rad)
     prior_sd = np.array([subject.shank_length_sd_m / subject.shank_length_m]
                         + [subject.set_angle_sd_rad] * len(conditions) + [subject.mass_sd_kg])
 
@@ -159,7 +172,7 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     scaled_leg = leg.rescaled(1.0 + step_scale)
     rows, residual_parts, noise_parts = [], [], []
     undefined = 0
-    for t in trials:
+    for t, condition in zip(trials, condition_of, strict=True):
         model_u = model_u_of(t, leg, t.fixed_rad, subject.mass_kg)
         angle = smoothed(t.angle_rad)[::stride]  # angle noise must not pass for torque misfit on steep curves
         velocity = smoothed(t.velocity_rad_s)[::stride]
@@ -176,8 +189,7 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
         rows.append(np.asarray(out[1]).reshape(-1, len(names) + len(ext_names)))  # the map lays the rows side by side
         cols = np.zeros((angle.size, len(measured)))
         cols[:, 0] = (np.asarray(out[2]).ravel() - u_pred) / step_scale
-        key = (t.joint, other, round(t.fixed_rad.get(other, 0.0), 6))
-        cols[:, 1 + conditions.index(key)] = (np.asarray(out[3]).ravel() - u_pred) / step_angle
+        cols[:, 1 + conditions.index(condition)] = (np.asarray(out[3]).ravel() - u_pred) / step_angle
         cols[:, -1] = (np.asarray(out[4]).ravel() - u_pred) / step_mass
         rows[-1] = np.hstack([rows[-1], cols])
         residual = u_pred - t.torque_nm[::stride]
@@ -199,10 +211,25 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     scale_c = sigma2 * n_samples / max(n_eff, 1.0)
     j_ext, j_meas = j_nuis[:, :len(ext_names)], j_nuis[:, len(ext_names):]
     if ext_names:
-        # the extension's parameters profiled out (fitted jointly, first order): the muscles' columns made
-        # orthogonal to the extension's
-        j = j - j_ext @ (np.linalg.pinv(j_ext.T @ j_ext, rcond=1e-10) @ (j_ext.T @ j))
-    info = j.T @ j / scale_c
+        # the extension's parameters profiled out (fitted jointly, first order): the muscles' columns (and the
+        # set angles') made orthogonal to the extension's
+        project = np.linalg.pinv(j_ext.T @ j_ext, rcond=1e-10) @ j_ext.T
+        j = j - j_ext @ (project @ j)
+        j_meas = j_meas - j_ext @ (project @ j_meas)
+    n_set = len(conditions)
+    if set_angles_fitted:
+        # the set angles profiled out with their prior (joint covariance, first order): the muscles' information
+        # is the Schur complement I_mm − I_ms (I_ss + 1/σ²)⁻¹ I_sm, the solution operator the one with them free
+        j_set = j_meas[:, 1:1 + n_set]
+        j_meas, prior_sd = j_meas[:, [0, -1]], prior_sd[[0, -1]]
+        info_ss = j_set.T @ j_set / scale_c + np.eye(n_set) / subject.set_angle_sd_rad**2
+        info_ms = j.T @ j_set / scale_c
+        gain_s = np.linalg.solve(info_ss, info_ms.T)  # (n_set, k)
+        operator = j.T - gain_s.T @ j_set.T  # the muscles' normal equations with the set angles eliminated
+        info = j.T @ j / scale_c - info_ms @ gain_s
+    else:
+        operator = j.T
+        info = j.T @ j / scale_c
     info_finite = n_samples > 0 and bool(np.all(np.isfinite(info)))
     if not info_finite:
         info = np.zeros_like(info)  # nothing is constrained: every parameter undetermined (the reasons say why)
@@ -213,7 +240,7 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     # the forward model's own error (against OpenSim, MODEL_ERROR_RMS_NM per sample) biases the fit
     # by at most |a_k|·|δ| for parameter k (a_k: row k of the least-squares solution operator,
     # restricted to the constrained directions; |δ| = RMS·√n): a bound added to the interval
-    solve_rows = (vecs[:, keep] / w[keep]) @ vecs[:, keep].T @ j.T / scale_c
+    solve_rows = (vecs[:, keep] / w[keep]) @ vecs[:, keep].T @ operator / scale_c
     bias = np.sqrt(np.sum(solve_rows**2, axis=1)) * model_error_nm * np.sqrt(n_samples)
     # a parameter is determined only if it has (almost) no part in the unconstrained directions
     free_part = np.sqrt(np.sum(vecs[:, ~keep] ** 2, axis=1)) if (~keep).any() else np.zeros(len(names))
@@ -221,7 +248,7 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     # estimate by C·Jᵀ·J_Δ·Δ / c (the fit's response to the torque it causes): their SDs propagated to first
     # order (delta method) and added to the variance. Profiled into the information instead, the shank took
     # the slack lengths' information with it and the model-error bound (≈ 90 × the SE) made nothing determined
-    sensitivity = cov @ j.T @ j_meas / scale_c
+    sensitivity = cov @ operator @ j_meas / scale_c
     measurement_var = np.sum((sensitivity * prior_sd[None, :]) ** 2, axis=1)
     se_total = np.sqrt(se**2 + measurement_var)
     half_width = 1.96 * se_total + bias
@@ -281,18 +308,18 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
                            "(integrated autocorrelation time of the residual)"
                            + (f"; the {extension.name} parameters fitted jointly as nuisances (profiled out)"
                               if extension is not None else "")
-                           + f"; the shank length (SD {1e3 * subject.shank_length_sd_m:.1f} mm), each set angle "
-                             f"(SD {math.degrees(subject.set_angle_sd_rad):.1f}°) and the mass (SD {subject.mass_sd_kg:g} kg) "
-                             "as measured inputs whose SDs are propagated to first order (delta method)",
+                           + (f"; each set angle fitted with its prior (SD {math.degrees(subject.set_angle_sd_rad):.1f}°) "
+                              "and profiled out (joint covariance); the shank length (SD "
+                              f"{1e3 * subject.shank_length_sd_m:.1f} mm) and the mass (SD {subject.mass_sd_kg:g} kg) "
+                              "as measured inputs whose SDs are propagated to first order (delta method)"
+                              if set_angles_fitted else
+                              f"; the shank length (SD {1e3 * subject.shank_length_sd_m:.1f} mm), each set angle "
+                              f"(SD {math.degrees(subject.set_angle_sd_rad):.1f}°) and the mass (SD "
+                              f"{subject.mass_sd_kg:g} kg) as measured inputs whose SDs are propagated to first order "
+                              "(delta method)"),
             measurement_se_rel=dict(zip(names, np.sqrt(measurement_var).tolist())),
             measurement_nuisances=measured,
             extension=extension.name if extension is not None else None)
-
-
-def other_joint(trial: PmpTrial) -> str:
-    """The fixed joint whose set angle changes between a moving joint's conditions (hip for the knee, knee
-    for the ankle)."""
-    return "hip" if trial.joint == "knee" else "knee"
 
 
 def smoothed(angle_rad: np.ndarray) -> np.ndarray:

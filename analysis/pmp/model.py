@@ -116,8 +116,68 @@ def free_parameters(leg: LegMuscles, trials: list[PmpTrial]) -> ParameterSet:
 
 #: order of the Taylor expansion of path length and moment arm about the measured angle inside the fit
 PATH_TAYLOR_ORDER = 3
-#: trials' path expansions a leg keeps (a model-level diagnosis revisits a dozen trials' at one set of anchors)
-PATH_CACHE_SIZE = 64
+#: trials' path expansions a leg keeps (a model-level diagnosis revisits a dozen trials at one set of anchors,
+#: each at its set angle and a step either side)
+PATH_CACHE_SIZE = 192
+
+
+def other_joint(trial: PmpTrial) -> str:
+    """The fixed joint whose set angle changes between a moving joint's conditions (hip for the knee, knee
+    for the ankle)."""
+    return "hip" if trial.joint == "knee" else "knee"
+
+
+def set_angle_condition(trial: PmpTrial) -> tuple[str, str, float]:
+    """The set-angle condition ``trial`` belongs to: (moving joint, fixed joint, its set angle in rad rounded to
+    1e-6). Trials of one condition share the chair's setting, so they share its error."""
+    other = other_joint(trial)
+    return trial.joint, other, round(trial.fixed_rad.get(other, 0.0), 6)
+
+
+def set_angle_label(condition: tuple[str, str, float]) -> str:
+    """``"hip_set_angle_55deg (knee trials)"``: a set-angle condition's name in reports and results."""
+    joint, other, angle_rad = condition
+    return f"{other}_set_angle_{math.degrees(angle_rad):.0f}deg ({joint} trials)"
+
+
+def with_set_angles(trials: list[PmpTrial], offsets_rad: dict[str, float]) -> list[PmpTrial]:
+    """``trials`` with each fixed joint at its set angle plus the fitted offset of its condition (rad, keyed by
+    :func:`set_angle_label`; a condition without one keeps the entered angle)."""
+    out = []
+    for t in trials:
+        label = set_angle_label(set_angle_condition(t))
+        if not offsets_rad.get(label):
+            out.append(t)
+            continue
+        other = other_joint(t)
+        fixed = dict(t.fixed_rad)
+        fixed[other] = fixed.get(other, 0.0) + float(offsets_rad[label])
+        out.append(PmpTrial(t.joint, fixed, t.time_s, t.angle_rad, t.velocity_rad_s, t.torque_nm, t.name))
+    return out
+
+
+#: step (rad) of the central differences of the paths' Taylor coefficients in the fixed joint's set angle
+SET_ANGLE_STEP_RAD = 1e-3
+
+
+def path_taylor_rows(leg: LegMuscles, trial: PmpTrial, anchors_rad: np.ndarray, set_angle: bool = False) -> np.ndarray:
+    """The rows the fit evaluates a trial's paths from: the anchors (rad), then :func:`path_taylor`'s
+    coefficients; with ``set_angle`` also their first and second derivatives in the fixed joint's set angle
+    (central differences, :data:`SET_ANGLE_STEP_RAD`), so that the paths at a set angle off by δ are
+    c + δ·c′ + δ²/2·c″ (a second-order expansion: at δ = 3° its error is third order, ≈ 0.05 mm of length)."""
+    _, coef = path_taylor(leg, trial, anchors_rad)
+    blocks = [anchors_rad.reshape(1, -1), coef]
+    if set_angle:
+        other, h = other_joint(trial), SET_ANGLE_STEP_RAD
+        shifted = []
+        for step in (h, -h):
+            fixed = dict(trial.fixed_rad)
+            fixed[other] = fixed.get(other, 0.0) + step
+            moved = PmpTrial(trial.joint, fixed, trial.time_s, trial.angle_rad, trial.velocity_rad_s, trial.torque_nm,
+                             trial.name)
+            shifted.append(path_taylor(leg, moved, anchors_rad)[1])
+        blocks += [(shifted[0] - shifted[1]) / (2 * h), (shifted[0] - 2 * coef + shifted[1]) / h**2]
+    return np.vstack(blocks)
 
 
 def path_taylor(leg: LegMuscles, trial: PmpTrial, anchors_rad: np.ndarray) -> tuple[list[str], np.ndarray]:

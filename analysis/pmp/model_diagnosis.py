@@ -48,7 +48,7 @@ from scipy.stats import t as student_t
 
 from ..trial_csv import NOMINAL_RANGE_DEG
 from .geometry import MUSCLES
-from .model import PmpTrial, Subject, eliminate_tendons, muscles_moment
+from .model import PmpTrial, Subject, eliminate_tendons, muscles_moment, with_set_angles
 from .muscles import COMPLIANT, LegMuscles
 from .problem import PmpResult, build_problem, estimate, solve
 
@@ -362,6 +362,7 @@ def predict_torque_nm(result: PmpResult, trial: PmpTrial, subject: Subject, leg:
     idx = (np.unique(np.linspace(0, trial.time_s.size - 1, min(points, trial.time_s.size)).astype(int))
            if indices is None else np.asarray(indices, dtype=int))
     q_s, v_s = ca.SX.sym("q"), ca.SX.sym("v")
+    trial = with_set_angles([trial], result.set_angle_offsets_rad)[0]  # at the set angle the fit found
     ext = [result.extension_parameters[n] for n in extension.parameters] if extension is not None else []
     q_joint = extension.joint_angle(trial, q_s, ext) if extension is not None else q_s
     options = extension.muscle_options(trial, ext) if extension is not None else {}

@@ -32,7 +32,16 @@ import numpy as np
 
 from ..errors import InputError
 from ..fit import FitStatus
-from .model import ParameterSet, PmpTrial, Subject, free_parameters, muscles_moment, path_taylor
+from .model import (
+    ParameterSet,
+    PmpTrial,
+    Subject,
+    free_parameters,
+    muscles_moment,
+    path_taylor_rows,
+    set_angle_condition,
+    set_angle_label,
+)
 from .muscles import LegMuscles
 
 SIGMA_Q_RAD = np.deg2rad(0.5)
@@ -43,6 +52,12 @@ SIGMA_U_NM = 0.5
 #: ±25 %) — and as much weight as PRIOR_WEIGHT of one trial's mean squared normalised error
 PRIOR_RELATIVE_SD = {"tendon_slack_length_m": 0.05, "passive_strain": 0.25, "tendon_strain": 0.25}
 PRIOR_WEIGHT = 0.01
+#: the fixed joints' set angles are fitted per condition about the entered value, with a Gaussian prior of
+#: the subject's ``set_angle_sd_rad`` weighted as the muscles' prior (PRIOR_WEIGHT of one trial's mean squared
+#: normalised error per SD²: the weight of one independent sample among a trial's ~100 effective ones)
+SET_ANGLE_PRIOR_WEIGHT = PRIOR_WEIGHT
+#: the fitted set-angle offsets stay within this many SDs of the entered angle
+SET_ANGLE_MAX_SD = 4.0
 
 
 @dataclass(frozen=True)
@@ -66,6 +81,9 @@ class PmpResult:
     solver_status: str
     trials: list[dict[str, np.ndarray]] = field(default_factory=list)
     extension_parameters: dict[str, float] = field(default_factory=dict)  # a model extension's estimates
+    #: the fitted offset (rad) of each condition's fixed-joint set angle, keyed by ``set_angle_label``
+    #: (e.g. ``"hip_set_angle_55deg (knee trials)"``); empty when the set angles were held as entered
+    set_angle_offsets_rad: dict[str, float] = field(default_factory=dict)
 
     @property
     def x(self) -> np.ndarray:
@@ -94,6 +112,10 @@ class PmpProblem:
     #: trials whose paths' Taylor anchors follow the fitted joint angle (an extension turns the joint): the Opti
     #: parameter of the coefficients, the trial, the leg, its index in ``outputs``, the current anchors (rad)
     anchors: list[tuple[Any, PmpTrial, LegMuscles, int, np.ndarray]] = field(default_factory=list)
+    #: the set-angle offsets' Opti variable (offset = SD · variable, one per condition) and the conditions' labels
+    set_angles: Any = None
+    set_angle_labels: list[str] = field(default_factory=list)
+    set_angle_sd_rad: float = 0.0
 
     def leave_out(self, held_out_s: list[list[tuple[float, float]]] | None) -> None:
         """Leave the torque in these windows (per trial, (start, end) s) out of the cost of the next solve;
@@ -109,7 +131,8 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
              max_iter: int = 300, initial: dict[str, float] | None = None, parameters: ParameterSet | None = None,
              moment: Any = None, extension: Any = None,
              progress: Callable[[int, float], None] | None = None,
-             held_out_s: list[list[tuple[float, float]]] | None = None, expand: bool = False) -> PmpResult:
+             held_out_s: list[list[tuple[float, float]]] | None = None, expand: bool = False,
+             fit_set_angles: bool = True) -> PmpResult:
     """Fit the passive parameters shared by ``trials`` (all at once): :func:`build_problem`, then :func:`solve`.
 
     ``progress(iteration, objective)`` is called after every IPOPT iteration (a progress line for
@@ -126,17 +149,25 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
     ``held_out_s`` (per trial, a list of (start, end) time windows, s) leaves the torque in those
     windows out of the cost (the motion is still tracked): the model-level diagnosis's held-out blocks.
 
+    ``fit_set_angles`` (the leg's own muscles only): each condition's fixed-joint set angle (the hip for knee
+    trials, the knee for ankle trials) is fitted as a nuisance about the entered value with a Gaussian prior of
+    ``subject.set_angle_sd_rad`` (:data:`SET_ANGLE_PRIOR_WEIGHT`); the offsets are in
+    ``PmpResult.set_angle_offsets_rad``. A chair set 3° off otherwise moves the two-joint muscles' lengths by
+    millimetres the slack lengths or an extension must absorb.
+
     :raises InputError: a trial is empty or moves another joint than knee/ankle.
     """
     problem = build_problem(trials, subject, leg=leg, intervals=intervals, max_iter=max_iter, initial=initial,
-                            parameters=parameters, moment=moment, extension=extension, held_out_s=held_out_s, expand=expand)
+                            parameters=parameters, moment=moment, extension=extension, held_out_s=held_out_s, expand=expand,
+                            fit_set_angles=fit_set_angles)
     return solve(problem, progress)
 
 
 def build_problem(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None = None, intervals: int = 40,
                   max_iter: int = 300, initial: dict[str, float] | None = None, parameters: ParameterSet | None = None,
                   moment: Any = None, extension: Any = None,
-                  held_out_s: list[list[tuple[float, float]]] | None = None, expand: bool = False) -> PmpProblem:
+                  held_out_s: list[list[tuple[float, float]]] | None = None, expand: bool = False,
+                  fit_set_angles: bool = True) -> PmpProblem:
     """The collocation problem of :func:`estimate` (its arguments), built and not solved; ``expand``: the
     problem's functions expanded into scalar operations for the solver (slower to make, faster per iteration:
     for a problem solved for several held-out folds, :meth:`PmpProblem.leave_out`).
@@ -166,6 +197,14 @@ def build_problem(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles |
     else:
         opti.subject_to(e_scaled == 0)
     problem = PmpProblem(opti, pset, p_scaled, e_scaled, 0, 0, [], extension, n_ext, intervals, max_iter)
+    if fit_set_angles and moment is None and subject.set_angle_sd_rad > 0:
+        conditions = sorted({set_angle_condition(t) for t in trials})
+        problem.set_angle_labels = [set_angle_label(c) for c in conditions]
+        problem.set_angle_sd_rad = float(subject.set_angle_sd_rad)
+        problem.set_angles = opti.variable(len(conditions))  # offset = SD · variable
+        opti.set_initial(problem.set_angles, 0.0)
+        # ±4 SD (±6° by default): a chair is never set further off; the bound keeps the paths' expansion valid
+        opti.subject_to(opti.bounded(-SET_ANGLE_MAX_SD, problem.set_angles, SET_ANGLE_MAX_SD))
     for t in trials:
         _add_trial(problem, t, subject, leg, moment)
     prior_sd = np.array([PRIOR_RELATIVE_SD[n.split(".")[1]] for n in pset.names]) if parameters is None \
@@ -173,6 +212,8 @@ def build_problem(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles |
     problem.regularisation = PRIOR_WEIGHT * ca.sumsqr((p_scaled - 1.0) / ca.DM(prior_sd))
     if n_ext:  # a vanishing pull toward no extension: a parameter no trial touches stays at 0
         problem.regularisation = problem.regularisation + 1e-6 * ca.sumsqr(e_scaled)
+    if problem.set_angles is not None:
+        problem.regularisation = problem.regularisation + SET_ANGLE_PRIOR_WEIGHT * ca.sumsqr(problem.set_angles)
     opti.minimize(problem.cost + problem.regularisation)
     # expanded into scalar operations once, when the solver is made (≈ 2 s), each IPOPT iteration is 6–8×
     # cheaper (end-range structures on six OpenSim trials, 12 intervals: 14.8 → 1.8 s per solve): worth it for a
@@ -220,19 +261,34 @@ def _add_trial(problem: PmpProblem, t: PmpTrial, subject: Subject, leg: LegMuscl
     es = ca.SX.sym("e", max(n_ext, 1))
     par_s = {n: pset.generic[i] * ps[i] for i, n in enumerate(pset.names)}
     ext_par = [float(extension.typical[i]) * es[i] for i in range(n_ext)]
-    q_joint = extension.joint_angle(t, qs, ext_par) if n_ext else qs
-    options = extension.muscle_options(t, ext_par) if n_ext else {}  # what the extension changes in the muscles
+    # the condition's set-angle offset (rad), a symbol of the point function when the set angles are fitted; the
+    # trial posed at it (its fixed joint a symbol) for the limb's weight and the extension's terms
+    fitted_set_angle = own_leg and problem.set_angles is not None
+    set_offset = ca.SX.sym("set_angle") if fitted_set_angle else 0.0
+    posed = t
+    if fitted_set_angle:
+        _, other, _ = set_angle_condition(t)
+        fixed: dict[str, Any] = dict(t.fixed_rad)
+        fixed[other] = t.fixed_rad.get(other, 0.0) + set_offset
+        posed = PmpTrial(t.joint, fixed, t.time_s, t.angle_rad, t.velocity_rad_s, t.torque_nm, t.name)
+    q_joint = extension.joint_angle(posed, qs, ext_par) if n_ext else qs
+    options = extension.muscle_options(posed, ext_par) if n_ext else {}  # what the extension changes in the muscles
     if options and not own_leg:
         raise InputError(f"{extension.name} changes the leg's muscles; it cannot extend another passive model")
     local_in: list[Any] = []
     # the leg's paths as Taylor polynomials about an anchor angle at each point: the measured angle; when an
     # extension turns the joint away from the arm's angle (an axis misalignment, by degrees) the anchors are
-    # parameters that :func:`solve` moves to the fitted joint angle until they agree (:data:`REANCHOR_TOLERANCE_RAD`)
+    # parameters that :func:`solve` moves to the fitted joint angle until they agree (:data:`REANCHOR_TOLERANCE_RAD`).
+    # With the set angle fitted the coefficients at an offset δ are c + δ·c′ + δ²/2·c″ (:func:`path_taylor_rows`)
     if own_leg:
-        _, coef = path_taylor(leg, t, qm)
-        coef = np.vstack([qm.reshape(1, -1), coef])
+        coef = path_taylor_rows(leg, t, qm, fitted_set_angle)
         geo = ca.SX.sym("geo", coef.shape[0])
-        muscles, residuals, calf = passive(t, q_joint, par_s, (geo[0], geo[1:]), **options)
+        if fitted_set_angle:
+            k = (coef.shape[0] - 1) // 3
+            paths = geo[1:1 + k] + set_offset * geo[1 + k:1 + 2 * k] + 0.5 * set_offset**2 * geo[1 + 2 * k:]
+        else:
+            paths = geo[1:]
+        muscles, residuals, calf = passive(t, q_joint, par_s, (geo[0], paths), **options)
         local_in = [geo]
         if n_ext and extension.angle is not None:
             anchored = opti.parameter(*coef.shape)
@@ -243,19 +299,25 @@ def _add_trial(problem: PmpProblem, t: PmpTrial, subject: Subject, leg: LegMuscl
         muscles, residuals, calf = passive(t, q_joint, par_s, **options)
     if n_ext and extension.angle is not None:  # the muscles' moment reaches the arm by virtual work
         muscles = muscles * ca.jacobian(q_joint, qs)
-    gravity = subject.gravity_moment_nm(t.joint, qs, t.fixed_rad, ca.cos)
+    gravity = subject.gravity_moment_nm(t.joint, qs, posed.fixed_rad, ca.cos)
     moment = gravity + muscles
     if n_ext:
-        moment = moment + extension.moment(t, qs, vs, ext_par, gravity)
+        moment = moment + extension.moment(posed, qs, vs, ext_par, gravity)
     lts = ca.vertcat(*calf) if calf else ca.SX.sym("lt", 0)
     lt: Any = opti.variable(len(calf), n_pts) if calf else None
     if calf:
         opti.set_initial(lt, 1.01)
         opti.subject_to(opti.bounded(0.99, lt, 1.2))
-    point = ca.Function("point", [qs, vs, us, ps, es, lts, *local_in],
+    set_in = [set_offset] if fitted_set_angle else []
+    point = ca.Function("point", [qs, vs, us, ps, es, lts, *set_in, *local_in],
                         [(us * u_scale + moment) / inertia, ca.vertcat(*residuals)])
+    set_value = []
+    if fitted_set_angle:
+        index = problem.set_angle_labels.index(set_angle_label(set_angle_condition(t)))
+        set_value = [ca.repmat(problem.set_angle_sd_rad * problem.set_angles[index], 1, n_pts)]
     acc_row, res_rows = point.map(n_pts)(q.T, v.T, u.T, ca.repmat(p_scaled, 1, n_pts), ca.repmat(e_scaled, 1, n_pts),
-                                          lt if calf else ca.DM.zeros(0, n_pts), *([coef] if local_in else []))
+                                          lt if calf else ca.DM.zeros(0, n_pts), *set_value,
+                                          *([coef] if local_in else []))
     if calf:
         opti.subject_to(ca.vec(res_rows) == 0)
     acc = acc_row.T
@@ -298,8 +360,7 @@ def _reanchor(problem: PmpProblem, sol: Any) -> float:
         q_arm = np.asarray(sol.value(problem.outputs[output][2])).ravel()
         joint = np.asarray(ca.DM(problem.extension.joint_angle(trial, ca.DM(q_arm), ext))).ravel()
         moved = max(moved, float(np.max(np.abs(joint - anchors))))
-        _, coef = path_taylor(leg, trial, joint)
-        problem.opti.set_value(param, np.vstack([joint.reshape(1, -1), coef]))
+        problem.opti.set_value(param, path_taylor_rows(leg, trial, joint, problem.set_angles is not None))
         problem.anchors[i] = (param, trial, leg, output, joint)
     return moved
 
@@ -341,10 +402,14 @@ def solve(problem: PmpProblem, progress: Callable[[int, float], None] | None = N
     if n_ext:
         values = np.atleast_1d(np.asarray(sol.value(e_scaled)).ravel()) * np.asarray(extension.typical, dtype=float)
         ext_est = dict(zip(extension.parameters, values.tolist()))
+    set_offsets = {}
+    if problem.set_angles is not None:
+        values = np.atleast_1d(np.asarray(sol.value(problem.set_angles)).ravel()) * problem.set_angle_sd_rad
+        set_offsets = dict(zip(problem.set_angle_labels, values.tolist()))
     return PmpResult(parameters=dict(zip(pset.names, est.tolist())), generic=dict(zip(pset.names, pset.generic.tolist())),
                      lower=dict(zip(pset.names, pset.lower.tolist())), upper=dict(zip(pset.names, pset.upper.tolist())),
                      fun=float(sol.value(cost)), nit=int(stats.get("iter_count", -1)), solve_time_s=solve_s,
                      success=success, status=FitStatus.CONVERGED if success else FitStatus.NOT_CONVERGED,
                      message=message, solver_status=str(stats.get("return_status", "unknown")), trials=res_trials,
-                     extension_parameters=ext_est)
+                     extension_parameters=ext_est, set_angle_offsets_rad=set_offsets)
 

@@ -16,7 +16,7 @@ from ..trial_csv import SUBJECT_RANGES, TrialTable
 from .estimator import MEASUREMENT_SD, PmpResult, PmpTrial, Subject, estimate, identifiability
 from .geometry import path_ranges_deg
 from .identifiability import Identifiability, parameters_at_bound
-from .model import moment_function
+from .model import moment_function, with_set_angles
 from .muscles import COMPLIANT, LegMuscles, scale_for_subject
 from .stiffness import FIGURE_QUANTITIES, achilles_stiffness_kn_per_m, representative_values
 from .verify import Verification, forward_dynamics
@@ -222,7 +222,8 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
             idf = identifiability(res, trials, subject, leg=leg, extension=extension)
             values = [float(res.extension_parameters[n]) for n in extension.parameters]
             contribution = []
-            for t in trials:  # the extension's own moment over each trial (N·m toward positive angle), plotted
+            for t in with_set_angles(trials, res.set_angle_offsets_rad):  # the extension's own moment over each
+                # trial (N·m toward positive angle), plotted
                 every = max(t.angle_rad.size // 200, 1)
                 q, v = t.angle_rad[::every], t.velocity_rad_s[::every]
                 moment = np.array([float(extension.moment(t, float(a), float(w), values,
@@ -249,8 +250,10 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
     if all(m in stiff["tendon_kN_per_m"] for m in COMPLIANT):
         stiff["achilles_kN_per_m"] = achilles_stiffness_kn_per_m({m: 1e3 * stiff["tendon_kN_per_m"][m] for m in COMPLIANT})
     slack_norm = {m: v for m, v in rep["slack_per_shank"].items() if f"{m}.tendon_slack_length_m" in determined}
+    # simulated at the set angles the fit found (the chair's setting plus its fitted offset)
     fd = [forward_dynamics(t, subject, res.parameters, leg=leg, extension=extension,
-                           extension_parameters=res.extension_parameters) for t in trials]
+                           extension_parameters=res.extension_parameters)
+          for t in with_set_angles(trials, res.set_angle_offsets_rad)]
     return PmpReport(result=res, identifiability=idf, stiffness=stiff, slack_per_shank_length=slack_norm,
                      forward_dynamics=fd, leg=leg, shank_length_m=subject.shank_length_m, model_diagnosis=model,
                      extended=extended)
@@ -276,6 +279,10 @@ def text(report: PmpReport, *, timings: bool = True) -> str:
         else:
             status = "not determined by these trials (the fit's value, not a measurement)"
         lines.append(f"{n:<34}{res.generic[n]:>9.4g}{v:>10.4g}   {status}")
+    for label, offset in res.set_angle_offsets_rad.items():  # "hip_set_angle_55deg (knee trials)"
+        joint, entered = label.split("_set_angle_")
+        lines.append(f"{joint} set angle {entered.replace('deg', '°')}: fitted {math.degrees(offset):+.1f}° off the "
+                     "entered angle (a nuisance with the measurement's prior; the intervals include it)")
     for why in idf.not_determined_because:
         lines.append(f"NOTHING DETERMINED: {why}")
     for c in idf.free_combinations[:4]:
