@@ -20,8 +20,8 @@ Every subject goes through the product's own path, :func:`analysis.pmp.report.an
 model-level diagnosis (candidates: end-range structures, a tonic activation, compliant knee tendons, a
 torque offset, a limb-mass error): the
 extension it names (or the pair) is fitted inside the estimator and the reported parameters are the extended
-model's, their intervals holding the extension's parameters (profiled) and the measured inputs'
-uncertainties (delta method). A published model, Riener & Edrich's knee and ankle moments (hip
+model's, their intervals holding the extension's parameters (profiled), the fitted set angles (profiled
+with their prior) and the shank's and the mass's uncertainties (delta method). A published model, Riener & Edrich's knee and ankle moments (hip
 90/55/15°, knee 0/45/90°, from the independent generator of :mod:`benchmarks.diagnosis_truth`), is
 fitted the same way.
 
