@@ -21,9 +21,9 @@ model-level diagnosis (candidates: end-range structures, a tonic activation, com
 torque offset, a limb-mass error): the
 extension it names (or the pair) is fitted inside the estimator and the reported parameters are the extended
 model's, their intervals holding the extension's parameters (profiled), the fitted set angles (profiled
-with their prior) and the shank's and the mass's uncertainties (delta method). A published model, Riener & Edrich's knee and ankle moments (hip
-90/55/15°, knee 0/45/90°, from the independent generator of :mod:`benchmarks.diagnosis_truth`), is
-fitted the same way.
+with their prior) and the shank's and the mass's uncertainties (delta method). A published model, Riener &
+Edrich's knee and ankle moments (hip 90/55/15°, knee 0/45/90°, from the independent generator of
+:mod:`benchmarks.diagnosis_truth`), is fitted the same way.
 
 Keys: ``mismatch_named_rate`` (per variant: the hidden mismatch named, for the variants the library
 has an extension for), ``false_extension_rate`` (matched subjects with an extension named),
