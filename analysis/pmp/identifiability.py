@@ -308,18 +308,21 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
                            "(integrated autocorrelation time of the residual)"
                            + (f"; the {extension.name} parameters fitted jointly as nuisances (profiled out)"
                               if extension is not None else "")
-                           + (f"; each set angle fitted with its prior (SD {math.degrees(subject.set_angle_sd_rad):.1f}°) "
-                              "and profiled out (joint covariance); the shank length (SD "
-                              f"{1e3 * subject.shank_length_sd_m:.1f} mm) and the mass (SD {subject.mass_sd_kg:g} kg) "
-                              "as measured inputs whose SDs are propagated to first order (delta method)"
-                              if set_angles_fitted else
-                              f"; the shank length (SD {1e3 * subject.shank_length_sd_m:.1f} mm), each set angle "
-                              f"(SD {math.degrees(subject.set_angle_sd_rad):.1f}°) and the mass (SD "
-                              f"{subject.mass_sd_kg:g} kg) as measured inputs whose SDs are propagated to first order "
-                              "(delta method)"),
+                           + measured_inputs_text(subject, set_angles_fitted),
             measurement_se_rel=dict(zip(names, np.sqrt(measurement_var).tolist())),
             measurement_nuisances=measured,
             extension=extension.name if extension is not None else None)
+
+
+def measured_inputs_text(subject: Subject, set_angles_fitted: bool) -> str:
+    """How the intervals carry the measured inputs (the end of ``Identifiability.uncertainty``)."""
+    sd = f"SD {math.degrees(subject.set_angle_sd_rad):.1f}°"
+    delta = [f"the shank length (SD {1e3 * subject.shank_length_sd_m:.1f} mm)", f"the mass (SD {subject.mass_sd_kg:g} kg)"]
+    fitted = f"; each set angle fitted with its prior ({sd}) and profiled out (joint covariance)" if set_angles_fitted else ""
+    if not set_angles_fitted:
+        delta.insert(1, f"each set angle ({sd})")
+    return (f"{fitted}; {', '.join(delta[:-1])} and {delta[-1]} as measured inputs whose SDs are propagated to first "
+            "order (delta method)")
 
 
 def smoothed(angle_rad: np.ndarray) -> np.ndarray:

@@ -39,6 +39,7 @@ from .model import (
     free_parameters,
     muscles_moment,
     path_taylor_rows,
+    posed_at,
     set_angle_condition,
     set_angle_label,
 )
@@ -265,12 +266,7 @@ def _add_trial(problem: PmpProblem, t: PmpTrial, subject: Subject, leg: LegMuscl
     # trial posed at it (its fixed joint a symbol) for the limb's weight and the extension's terms
     fitted_set_angle = own_leg and problem.set_angles is not None
     set_offset = ca.SX.sym("set_angle") if fitted_set_angle else 0.0
-    posed = t
-    if fitted_set_angle:
-        _, other, _ = set_angle_condition(t)
-        fixed: dict[str, Any] = dict(t.fixed_rad)
-        fixed[other] = t.fixed_rad.get(other, 0.0) + set_offset
-        posed = PmpTrial(t.joint, fixed, t.time_s, t.angle_rad, t.velocity_rad_s, t.torque_nm, t.name)
+    posed = posed_at(t, set_offset) if fitted_set_angle else t
     q_joint = extension.joint_angle(posed, qs, ext_par) if n_ext else qs
     options = extension.muscle_options(posed, ext_par) if n_ext else {}  # what the extension changes in the muscles
     if options and not own_leg:
