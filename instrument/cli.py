@@ -168,6 +168,9 @@ def build_parser() -> argparse.ArgumentParser:
                           "axis misalignment, end-range structures, a tonic activation, compliant knee tendons) inside "
                           "the estimator, judge it by held-out prediction across trials, and a second one beside the "
                           "winner (about 5 fits per candidate: minutes)")
+    pmp.add_argument("--extension", default=None, metavar="NAME",
+                     help="fit the model extended with NAME directly (what an earlier --diagnose-model of this subject "
+                          "named, e.g. end_range_structures or tonic_activation+knee_tendon_compliance): seconds")
     rep = analyses.add_parser("replica", help="spring stiffness and rest length of the replica leg from its static holds")
     rep.set_defaults(run=cmd_analyze_replica)
     rep.add_argument("trials", nargs="+", help="store trial ids, .h5 trial files or replica trial CSVs (with sidecars)")
@@ -282,11 +285,13 @@ def cmd_analyze_pmp(args: argparse.Namespace) -> int:
         tables = [t.table() for t in trials]
         subject_data = given_subject if given_subject is not None else tables[0].sidecar.get("subject") or {}
         report = analyse([fitted(t, table) for t, table in zip(trials, tables)], subject_from(subject_data), args.intervals,
-                         diagnose_model=args.diagnose_model)
+                         diagnose_model=args.diagnose_model, extension=args.extension)
         files = write_plots(report, args.out)
         return {"json": to_json(report), "text": text(report), "files": [str(f) for f in files]}
 
     settings = {"intervals": args.intervals, "diagnose_model": args.diagnose_model, "subject": given_subject}
+    if args.extension:
+        settings["extension"] = args.extension
     return _show(args, _analysed(args, "pmp_subject", settings, compute))
 
 

@@ -176,11 +176,31 @@ def subject_from(data: dict[str, Any]) -> Subject:
 
 def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagnose_model: bool = False,
             model_candidates: list[str] | None = None, model_intervals: int | None = None,
-            progress: Callable[[str], None] | None = None) -> PmpReport:
+            progress: Callable[[str], None] | None = None, extension: str | None = None) -> PmpReport:
     """Fit, identifiability, physiological stiffness of the determined parameters, and forward dynamics;
     with ``diagnose_model``, the model-level diagnosis too (:mod:`analysis.pmp.model_diagnosis`: every
-    candidate extension fitted inside the estimator, judged by held-out prediction across trials)."""
+    candidate extension fitted inside the estimator, judged by held-out prediction across trials) and the
+    model extended with what it named; with ``extension`` (a name of
+    :data:`analysis.pmp.model_diagnosis.EXTENSIONS`, or two joined by ``+``: what an earlier diagnosis of
+    this subject named) the model extended with it directly, without the diagnosis.
+
+    :raises InputError: ``extension`` names no extension, or is given with ``diagnose_model``.
+    """
+    from .model_diagnosis import get_extension
+
+    named = extension
+    if named is not None:
+        if diagnose_model:
+            raise InputError("give an extension to fit or ask for the model-level diagnosis, not both")
+        try:
+            get_extension(named)
+        except KeyError as err:
+            from .model_diagnosis import EXTENSIONS, JOIN
+
+            raise InputError(f"no model extension {named!r}; known: {', '.join(EXTENSIONS)} (two joined by "
+                             f"{JOIN!r})") from err
     leg = LegMuscles(length_scale=scale_for_subject(subject.shank_length_m))
+
     def iteration(i: int, objective: float) -> None:
         if progress is not None and i % 5 == 0:
             progress(f"IPOPT iteration {i}: objective {objective:.4g}")
@@ -192,56 +212,57 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
     idf = identifiability(res, trials, subject, leg=leg)
     model = None
     extended: ExtendedModel | None = None
-    extension = None
     if diagnose_model:
         from .model_diagnosis import diagnose_model as run_model_diagnosis
-        from .model_diagnosis import get_extension
 
         if progress is not None:
             progress("model-level diagnosis: each candidate fitted and judged on held-out blocks ...")
         model = run_model_diagnosis(trials, subject, leg=leg, intervals=model_intervals or intervals,
                                     plain=res if not model_intervals or model_intervals == intervals else None,
                                     candidates=model_candidates)
-        if model.cause != "none":
-            # extend the model with what the diagnosis named, refit, and report the extended model's parameters
-            # with the extension's parameters as nuisances in their intervals; the plain fit is kept beside it
-            extension = get_extension(model.cause)
-            if progress is not None:
-                progress(f"refit with {extension.name} ...")
-            plain_res, plain_idf = res, idf
-            # started from the plain fit's parameters; the extension's terms can hold what the plain fit pushed
-            # into the muscles, and from there the refit can stay in that basin (a demo subject's soleus ε0 went
-            # to its bound, at a cost 2 % above the generic start's). So when that refit fails or leaves a
-            # muscle parameter at a bound, it is repeated from the generic model and the lower cost is kept
-            # (expanded for the solver: an extended fit takes 60–130 iterations, each 6–8× cheaper expanded)
-            fits = [estimate(trials, subject, leg=leg, intervals=intervals, extension=extension,
-                             initial=plain_res.parameters, expand=True)]
-            if not fits[0].success or parameters_at_bound(fits[0]):
-                fits.append(estimate(trials, subject, leg=leg, intervals=intervals, extension=extension, expand=True))
-            res = min((f for f in fits if f.success), key=lambda f: f.fun, default=fits[0])
-            idf = identifiability(res, trials, subject, leg=leg, extension=extension)
-            values = [float(res.extension_parameters[n]) for n in extension.parameters]
-            contribution = []
-            for t in with_set_angles(trials, res.set_angle_offsets_rad):  # the extension's own moment over each
-                # trial (N·m toward positive angle), plotted
-                every = max(t.angle_rad.size // 200, 1)
-                q, v = t.angle_rad[::every], t.velocity_rad_s[::every]
-                moment = np.array([float(extension.moment(t, float(a), float(w), values,
-                                                          float(subject.gravity_moment_nm(t.joint, a, t.fixed_rad))))
-                                   for a, w in zip(q, v)])
-                options = extension.muscle_options(t, values)
-                if options:  # what it changes in the muscles: the extended muscles' moment less the plain ones'
-                    moment = moment + (np.asarray(moment_function(leg, t, res.parameters, **options).map(q.size)(
-                        q[None, :])).ravel() - np.asarray(moment_function(leg, t, res.parameters).map(q.size)(
-                            q[None, :])).ravel())
-                contribution.append((np.rad2deg(q).tolist(), moment.tolist()))
-            extended = ExtendedModel(extension=extension.name, description=extension.description,
-                                     contribution_nm=contribution, parameters=dict(res.extension_parameters),
-                                     plain_misfit_ratio=plain_idf.misfit_ratio, misfit_ratio=idf.misfit_ratio,
-                                     plain_residual_rms_nm=plain_idf.residual_rms_nm,
-                                     residual_rms_nm=idf.residual_rms_nm,
-                                     plain_determined=list(plain_idf.determined), determined=list(idf.determined),
-                                     plain_result=plain_res)
+        named = None if model.cause == "none" else model.cause
+    fitted_extension = None
+    if named is not None:
+        # extend the model with what the diagnosis named (or the caller gave), refit, and report the extended
+        # model's parameters with the extension's parameters as nuisances in their intervals; the plain fit is
+        # kept beside it
+        fitted_extension = get_extension(named)
+        if progress is not None:
+            progress(f"refit with {fitted_extension.name} ...")
+        plain_res, plain_idf = res, idf
+        # started from the plain fit's parameters; the extension's terms can hold what the plain fit pushed
+        # into the muscles, and from there the refit can stay in that basin (a demo subject's soleus ε0 went
+        # to its bound, at a cost 2 % above the generic start's). So when that refit fails or leaves a
+        # muscle parameter at a bound, it is repeated from the generic model and the lower cost is kept
+        # (expanded for the solver: an extended fit takes 60–130 iterations, each 6–8× cheaper expanded)
+        fits = [estimate(trials, subject, leg=leg, intervals=intervals, extension=fitted_extension,
+                         initial=plain_res.parameters, expand=True)]
+        if not fits[0].success or parameters_at_bound(fits[0]):
+            fits.append(estimate(trials, subject, leg=leg, intervals=intervals, extension=fitted_extension, expand=True))
+        res = min((f for f in fits if f.success), key=lambda f: f.fun, default=fits[0])
+        idf = identifiability(res, trials, subject, leg=leg, extension=fitted_extension)
+        values = [float(res.extension_parameters[n]) for n in fitted_extension.parameters]
+        contribution = []
+        for t in with_set_angles(trials, res.set_angle_offsets_rad):  # the extension's own moment over each
+            # trial (N·m toward positive angle), plotted
+            every = max(t.angle_rad.size // 200, 1)
+            q, v = t.angle_rad[::every], t.velocity_rad_s[::every]
+            moment = np.array([float(fitted_extension.moment(t, float(a), float(w), values,
+                                                      float(subject.gravity_moment_nm(t.joint, a, t.fixed_rad))))
+                               for a, w in zip(q, v)])
+            options = fitted_extension.muscle_options(t, values)
+            if options:  # what it changes in the muscles: the extended muscles' moment less the plain ones'
+                moment = moment + (np.asarray(moment_function(leg, t, res.parameters, **options).map(q.size)(
+                    q[None, :])).ravel() - np.asarray(moment_function(leg, t, res.parameters).map(q.size)(
+                        q[None, :])).ravel())
+            contribution.append((np.rad2deg(q).tolist(), moment.tolist()))
+        extended = ExtendedModel(extension=fitted_extension.name, description=fitted_extension.description,
+                                 contribution_nm=contribution, parameters=dict(res.extension_parameters),
+                                 plain_misfit_ratio=plain_idf.misfit_ratio, misfit_ratio=idf.misfit_ratio,
+                                 plain_residual_rms_nm=plain_idf.residual_rms_nm,
+                                 residual_rms_nm=idf.residual_rms_nm,
+                                 plain_determined=list(plain_idf.determined), determined=list(idf.determined),
+                                 plain_result=plain_res)
     # the physiological quantities of the determined parameters only (Figures 3.15–3.17's, eq 3.13/3.16)
     rep = representative_values(leg, res.parameters, subject.shank_length_m)
     determined = set(idf.determined)
@@ -251,7 +272,7 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
         stiff["achilles_kN_per_m"] = achilles_stiffness_kn_per_m({m: 1e3 * stiff["tendon_kN_per_m"][m] for m in COMPLIANT})
     slack_norm = {m: v for m, v in rep["slack_per_shank"].items() if f"{m}.tendon_slack_length_m" in determined}
     # simulated at the set angles the fit found (the chair's setting plus its fitted offset)
-    fd = [forward_dynamics(t, subject, res.parameters, leg=leg, extension=extension,
+    fd = [forward_dynamics(t, subject, res.parameters, leg=leg, extension=fitted_extension,
                            extension_parameters=res.extension_parameters)
           for t in with_set_angles(trials, res.set_angle_offsets_rad)]
     return PmpReport(result=res, identifiability=idf, stiffness=stiff, slack_per_shank_length=slack_norm,

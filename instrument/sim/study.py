@@ -9,12 +9,17 @@ of Riener & Edrich's equations), and the six trials (knee at hip 90/55/15°, ank
 where the passive moment is below :data:`SWEEP_TORQUE_LIMIT_NM` (a knee at hip 90° cannot be
 straightened against tight hamstrings). The truth rides in each trial's metadata
 (``study_truth``), for validation only: the analysis never reads it to fit.
+
+A study may instead be given its subjects (:class:`StudyDraw`: the store's subject, the true parameters and
+the moment table of each sweep), e.g. drawn from an independent model (``benchmarks.cohort`` draws them from
+OpenSim, realistic subjects included); they go through the same drivers and store.
 """
 
 from __future__ import annotations
 
 import threading
-from dataclasses import replace
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -31,6 +36,31 @@ from .simulate import lab_config_for, simulated_devices, simulation_metadata
 SWEEP_TORQUE_LIMIT_NM = 100.0
 #: rooms recording at once (each trial is its own simulated lab)
 ROOMS = 4
+
+
+#: (sweep protocol) -> (angles deg ascending, passive moment N·m toward positive angles) over its range ±3°
+MomentTable = Callable[[IsokineticProtocol], tuple[np.ndarray, np.ndarray]]
+
+
+@dataclass(frozen=True)
+class StudyDraw:
+    """One subject of a simulated study: the store's record (what the lab entered), the true parameters
+    (``muscle.parameter`` -> SI value, kept in the trials' metadata for validation only), the subject's passive
+    moments per sweep and a name for where they came from (``variant``)."""
+
+    subject: Subject
+    truth: dict[str, float]
+    moment_table: MomentTable
+    variant: str = "muscle model"
+    #: the body's true shank length (m) where the entered one is off (a tape error); None: as entered
+    true_shank_length_m: float | None = None
+
+
+def muscle_model_draw(index: int, seed: int = 0) -> StudyDraw:
+    """Subject ``index`` of ``seed`` whose passive moments are the estimator's own muscle model's."""
+    subject, truth = draw_subject(index, seed)
+    leg = true_leg(subject, truth)
+    return StudyDraw(subject, truth, lambda proto: passive_table(proto, leg))
 
 
 def draw_subject(index: int, seed: int = 0) -> tuple[Subject, dict[str, float]]:
@@ -82,12 +112,12 @@ def passive_table(protocol: IsokineticProtocol, leg: Any) -> tuple[np.ndarray, n
     return deg, np.asarray(nm, dtype=float)
 
 
-def subject_protocols(leg: Any, speed_deg_s: float) -> list[IsokineticProtocol]:
-    """The six sweeps, each starting where the passive moment is within :data:`SWEEP_TORQUE_LIMIT_NM`."""
+def subject_protocols(table: MomentTable, speed_deg_s: float) -> list[IsokineticProtocol]:
+    """The six sweeps, each starting where the passive moment (``table``) is within :data:`SWEEP_TORQUE_LIMIT_NM`."""
     out: list[IsokineticProtocol] = []
     for proto in [KneeProtocol(hip_flexion_deg=h, speed_deg_s=speed_deg_s) for h in (90.0, 55.0, 15.0)] + \
                  [AnkleProtocol(knee_flexion_deg=k, speed_deg_s=speed_deg_s) for k in (0.0, 45.0, 90.0)]:
-        deg, nm = passive_table(proto, leg)
+        deg, nm = table(proto)
         inside = (deg >= min(proto.start_deg, proto.end_deg)) & (deg <= max(proto.start_deg, proto.end_deg))
         ok = inside & (np.abs(nm) <= SWEEP_TORQUE_LIMIT_NM)
         if not ok.any():
@@ -102,37 +132,37 @@ def subject_protocols(leg: Any, speed_deg_s: float) -> list[IsokineticProtocol]:
 
 
 def record_study(store_dir: Path, subjects: int, *, seed: int = 0, speed_deg_s: float = 5.0,
-                 progress: Any = print) -> SessionStore:
+                 progress: Any = print, draws: Sequence[StudyDraw] | None = None) -> SessionStore:
     """Record ``subjects`` simulated subjects' knee and ankle sweeps into the store at ``store_dir``.
 
+    :param draws: the subjects (default: ``subjects`` drawn by :func:`muscle_model_draw` from ``seed``).
     :raises RecordingError, StoreError: as :func:`instrument.live.session.record_trial`.
     """
     store = SessionStore(store_dir)
-    jobs: list[tuple[Subject, dict[str, float], int, IsokineticProtocol]] = []
-    for i in range(subjects):
-        subject, truth = draw_subject(i, seed)
-        store.add_subject(subject)
-        session = store.new_session(subject.code, operator="study-operator", notes="simulated study")
-        leg = true_leg(subject, truth)
-        for proto in subject_protocols(leg, speed_deg_s):
-            jobs.append((subject, truth, session, proto))
+    if draws is None:
+        draws = [muscle_model_draw(i, seed) for i in range(subjects)]
+    jobs: list[tuple[StudyDraw, int, IsokineticProtocol, tuple[np.ndarray, np.ndarray]]] = []
+    for draw in draws:
+        store.add_subject(draw.subject)
+        session = store.new_session(draw.subject.code, operator="study-operator", notes="simulated study")
+        for proto in subject_protocols(draw.moment_table, speed_deg_s):
+            jobs.append((draw, session, proto, draw.moment_table(proto)))
     lock = threading.Lock()
     errors: list[BaseException] = []
     done = [0]
 
     def room(k: int) -> None:
-        for j, (subject, truth, session, proto) in enumerate(jobs):
+        for j, (draw, session, proto, (deg, nm)) in enumerate(jobs):
             if j % ROOMS != k or errors:
                 continue
+            subject = draw.subject
             try:
-                leg = true_leg(subject, truth)
-                deg, nm = passive_table(proto, leg)
+                shank = draw.true_shank_length_m or float(subject.shank_length_m or 0.42)
                 cfg = lab_config_for(proto, seed=seed * 1000 + j, body_mass_kg=float(subject.mass_kg or 75.0),
-                                     shank_length_m=float(subject.shank_length_m or 0.42),
-                                     foot_length_m=float(subject.foot_length_m or 0.26))
+                                     shank_length_m=shank, foot_length_m=float(subject.foot_length_m or 0.26))
                 cfg.leg = replace(cfg.leg, passive_table_deg=tuple(deg.tolist()), passive_table_nm=tuple(nm.tolist()))
                 with simulated_devices(proto, cfg) as (lab, devices):
-                    meta = {**simulation_metadata(lab), "study_truth": truth}
+                    meta = {**simulation_metadata(lab), "study_truth": draw.truth, "study_truth_variant": draw.variant}
                     out = record_trial(store, session, proto, devices, operator="study-operator", trial_number=1,
                                        extra_metadata=meta)
                 with lock:

@@ -21,3 +21,25 @@ def test_report_writes_the_fit_and_the_three_parameter_panels(tmp_path: Path) ->
     n_slack = sum(n.endswith("tendon_slack_length_m") for n in report.result.parameters)
     assert len(fig.axes[0].patches) == 2 * n_slack
     assert "leg" not in to_json(report)
+
+
+def test_a_named_extension_is_fitted_directly_without_the_diagnosis() -> None:
+    """What an earlier ``--diagnose-model`` named is refitted by name: a 1.5 N·m arm-weight error on every trial
+    is found as the ankle's offset (its muscles cannot make a constant torque; the knee's partly absorb it, so
+    only the ankle's is held to its value) and the residual falls."""
+    import dataclasses
+
+    import pytest
+
+    from analysis.errors import InputError
+
+    _, trials, subject = simulated_subject(3, ("knee", "ankle"))
+    offset = [dataclasses.replace(t, torque_nm=t.torque_nm + 1.5) for t in trials]
+    with pytest.raises(InputError, match="no model extension 'friction'"):
+        analyse(offset, subject, intervals=10, extension="friction")  # refused before any fit
+    report = analyse(offset, subject, intervals=10, extension="torque_offset")
+    ext = report.extended
+    assert ext is not None and ext.extension == "torque_offset" and report.model_diagnosis is None
+    # the offset's moment toward positive angles opposes the dynamometer's added torque
+    assert abs(ext.parameters["ankle_offset_Nm"] + 1.5) < 0.3
+    assert ext.misfit_ratio < ext.plain_misfit_ratio - 0.2
