@@ -1,19 +1,25 @@
 """Cohort analysis on Dask: scaling with workers, the engine's overhead, and accuracy against a simulated study's truth.
 
-A simulated study (``instrument.sim.study``: subjects with drawn anthropometrics and muscle
-parameters; six sweeps each at the protocol's 5°/s, recorded through the drivers into a store)
-is fitted with ``bootstrap`` refits per subject:
+A simulated study whose subjects' passive moments OpenSim made (:func:`opensim_draws`: Rajagopal 2016's
+muscles with perturbed parameters, :mod:`benchmarks.opensim_truth` in a subprocess, never the estimator's
+own muscle model), one variant per subject in turn from :data:`VARIANTS` (the realistic ones of
+``pmp_realistic``: compliant knee tendons with tone, end-range structures, unmodelled muscles, a tape error on
+the shank, the fixed joints' set angles off), six sweeps each at the protocol's speed recorded through the
+drivers into a store (``instrument.sim.study``), is fitted (the plain muscle model, as ``analyze cohort``
+does) with ``bootstrap`` refits per subject:
 
 * with a LocalCluster of 1 and of 2 worker processes (wall time of each, their ratio);
 * in a plain loop in this process (the same solves, no engine) on ``loop_subjects`` of the
   subjects, against the 1-worker engine on the same subjects: the engine's overhead;
-* the 95 % intervals of the determined parameters against the truth (coverage, errors);
+* the 95 % intervals of the determined parameters against the truth (coverage, errors), over all
+  subjects and per variant;
 * an interrupted run (stopped after a few results) resumed from the store, and a worker
   killed mid-run: no result lost or duplicated.
 
 Keys: ``subjects``, ``solves``, ``wall_s_1_worker``, ``wall_s_2_workers``, ``scaling_ratio``,
 ``engine_overhead_pct``, ``coverage_95``, ``max_error_determined_pct``, ``resume_after_kill_ok``,
-``worker_kill_ok``, ``seconds_per_solve``, ``solves_per_core_minute``.
+``worker_kill_ok``, ``seconds_per_solve``, ``solves_per_core_minute``, ``truth_source``, ``variant_per_subject``,
+``by_variant`` (per variant: determined parameters with truth, coverage, worst error, median misfit ratio).
 """
 
 from __future__ import annotations
@@ -22,12 +28,96 @@ import os
 import signal
 import tempfile
 import time
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+from instrument.kinds.ankle import AnkleProtocol
+from instrument.kinds.isokinetic import IsokineticProtocol
+from instrument.kinds.knee import KneeProtocol
 from instrument.offline.cohort import MemoryResults, StudySubject, run_cohort, study_from_store
-from instrument.sim.study import record_study
-from instrument.store import SessionStore
+from instrument.sim.study import StudyDraw, record_study
+from instrument.store import SessionStore, Subject
+
+#: the variant of subject i is VARIANTS[i % len(VARIANTS)] (as ``pmp_realistic``'s, one mismatch each)
+VARIANTS = ("matched", "compliant_tone", "end_range", "unmodelled_muscles", "tape", "set_angle")
+#: seeds of the truth's draws (pmp_realistic's development and measured seeds are 900–13999)
+COHORT_SEED_BASE = 20000
+FOOT_M = 0.26
+#: OpenSim's poses every this many degrees over each sweep's range ±3°, a cubic spline between (deg)
+POSE_STEP_DEG = 1.0
+
+
+def _sweep_key(proto: IsokineticProtocol) -> tuple[str, float]:
+    return proto.joint, round(float(proto.set_angle_deg), 3)
+
+
+def opensim_draw(index: int, seed: int) -> StudyDraw:
+    """Subject ``index``: parameters drawn around Rajagopal 2016's, passive moments from OpenSim with the
+    subject's variant hidden, a moment table per protocol sweep (knee at hip 90/55/15°, ankle at knee 0/45/90°)."""
+    from .opensim_truth import draw_truth, generic_parameters, model_path, opensim
+    from .pmp_opensim import SHANK_M
+    from .pmp_realistic import _limit_forces
+
+    variant = VARIANTS[index % len(VARIANTS)]
+    rng = np.random.default_rng([seed, index])
+    truth = draw_truth(int(rng.integers(2**31)), generic_parameters())
+    protos: list[IsokineticProtocol] = [KneeProtocol(hip_flexion_deg=h) for h in (90.0, 55.0, 15.0)]
+    protos += [AnkleProtocol(knee_flexion_deg=k) for k in (0.0, 45.0, 90.0)]
+    errors_deg = rng.uniform(-3.0, 3.0, len(protos)) if variant == "set_angle" else np.zeros(len(protos))
+    poses, grids = [], []
+    for proto, err in zip(protos, errors_deg):
+        lo, hi = sorted((proto.start_deg, proto.end_deg))
+        grid = np.arange(lo - 3.0, hi + 3.0 + 1e-9, POSE_STEP_DEG)
+        grids.append(grid)
+        fixed = proto.fixed_angles_deg()
+        at = {"hip": fixed.get("hip_flexion_deg", 0.0), "knee": fixed.get("knee_flexion_deg", 0.0),
+              "ankle": fixed.get("ankle_dorsiflexion_deg", 0.0)}
+        at["hip" if proto.joint == "knee" else "knee"] += float(err)  # the fixed joint truly sits there
+        for d in grid:
+            poses.append({k: float(np.radians(d if k == proto.joint else v)) for k, v in at.items()})
+    answer = opensim({"model": str(model_path()), "parameters": truth, "poses": poses,
+                      "compliant_knee_tendons": variant == "compliant_tone",
+                      "activation": 0.01 if variant == "compliant_tone" else 0.0,
+                      "limit_forces": _limit_forces(rng) if variant == "end_range" else {},
+                      "unmodelled_muscles": variant == "unmodelled_muscles"})
+    tables: dict[tuple[str, float], tuple[np.ndarray, np.ndarray]] = {}
+    first = 0
+    for proto, grid in zip(protos, grids):
+        moments = np.asarray(answer["moments_nm"][proto.joint][first:first + grid.size], dtype=float)
+        first += grid.size
+        fine = np.arange(grid[0], grid[-1] + 1e-9, 0.1)
+        tables[_sweep_key(proto)] = (fine, CubicSpline(grid, moments)(fine))
+    tape_m = float(rng.uniform(-0.005, 0.005)) if variant == "tape" else 0.0
+    mass = float(rng.uniform(60.0, 90.0))
+    subject = Subject(f"OS{index + 1:02d}", "unknown", None, mass, None, None, SHANK_M + tape_m, None, FOOT_M)
+    flat = {f"{m}.{what}": float(v) for m, row in truth.items() for what, v in row.items()}
+    return StudyDraw(subject, flat, lambda proto: tables[_sweep_key(proto)], variant=variant, true_shank_length_m=SHANK_M)
+
+
+def opensim_draws(subjects: int, seed: int = COHORT_SEED_BASE) -> list[StudyDraw]:
+    """``subjects`` :func:`opensim_draw` subjects, two OpenSim processes at a time."""
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        return list(pool.map(lambda i: opensim_draw(i, seed), range(subjects)))
+
+
+def by_variant(summaries: list[dict[str, Any]], variant_of: dict[str, str]) -> dict[str, dict[str, Any]]:
+    """Per variant: determined parameters with truth, how many intervals hold it, the worst error, the misfit."""
+    out: dict[str, dict[str, Any]] = {}
+    for v in dict.fromkeys(variant_of.values()):
+        rows = [r for s in summaries if variant_of.get(s["subject_code"]) == v for r in s["parameters"].values()
+                if r.get("determined") and "covered" in r]
+        misfit = [s["misfit_ratio"] for s in summaries if variant_of.get(s["subject_code"]) == v
+                  and s["misfit_ratio"] is not None]
+        out[v] = {"subjects": sum(1 for c in variant_of.values() if c == v), "determined_with_truth": len(rows),
+                  "covered": sum(bool(r["covered"]) for r in rows),
+                  "coverage_95": float(np.mean([r["covered"] for r in rows])) if rows else None,
+                  "max_error_determined_pct": float(max(abs(r["error_pct"]) for r in rows)) if rows else None,
+                  "median_misfit_ratio": float(np.median(misfit)) if misfit else None}
+    return out
 
 
 def _plain_loop(study: list[StudySubject], bootstrap: int, intervals: int) -> tuple[float, int]:
@@ -95,19 +185,23 @@ def _worker_killed(study: list[StudySubject], intervals: int) -> bool:
 
 
 def run(quick: bool = False) -> dict[str, Any]:
-    subjects = 4 if quick else 10
+    subjects = 6 if quick else 12
     bootstrap = 6 if quick else 20
     loop_subjects = 2 if quick else 3
     speed = 15.0 if quick else 5.0
     intervals = 12
     root = Path(tempfile.mkdtemp(prefix="cohort-bench-"))
     t0 = time.perf_counter()
-    store = record_study(root / "study", subjects, speed_deg_s=speed, progress=lambda m: None)
+    draws = opensim_draws(subjects)
+    truth_s = time.perf_counter() - t0
+    variant_of = {d.subject.code: d.variant for d in draws}
+    print(f"OpenSim made {subjects} subjects' passive moments in {truth_s:.0f} s", flush=True)
+    t0 = time.perf_counter()
+    store = record_study(root / "study", subjects, speed_deg_s=speed, progress=lambda m: None, draws=draws)
     study = study_from_store(store)
     store.close()
     record_s = time.perf_counter() - t0
-    print(f"recorded {subjects} subjects x {sum(len(s.trials) for s in study) // subjects} trials in "
-          f"{record_s:.0f} s", flush=True)
+    print(f"recorded {subjects} subjects, {sum(len(s.trials) for s in study)} trials in {record_s:.0f} s", flush=True)
 
     runs = {}
     for workers in (1, 2):
@@ -129,7 +223,9 @@ def run(quick: bool = False) -> dict[str, Any]:
     result = {
         "subjects": subjects, "trials_per_subject": sum(len(s.trials) for s in study) / subjects,
         "bootstrap_per_subject": bootstrap, "solves": runs[2].solves, "collocation_intervals": intervals,
-        "sweep_speed_deg_s": speed, "record_s": record_s,
+        "sweep_speed_deg_s": speed, "record_s": record_s, "truth_s": truth_s,
+        "truth_source": "OpenSim (Rajagopal 2016, DeGrooteFregly2016Muscle) in a subprocess",
+        "variant_per_subject": variant_of, "by_variant": by_variant(runs[2].summaries, variant_of),
         "wall_s_1_worker": wall1, "wall_s_2_workers": wall2, "scaling_ratio": wall1 / wall2,
         "plain_loop_s": loop_s, "plain_loop_solves": loop_n, "engine_1_worker_same_solves_s": engine_subset.wall_s,
         "engine_task_seconds_same_solves": engine_subset.task_seconds,
@@ -145,6 +241,7 @@ def run(quick: bool = False) -> dict[str, Any]:
         "misfit_ratio_per_subject": {s["subject_code"]: s["misfit_ratio"] for s in runs[2].summaries},
         "determined_per_subject": {s["subject_code"]: [n for n, r in s["parameters"].items() if r["determined"]]
                                    for s in runs[2].summaries},
+        "trials_per_subject_recorded": {s.code: len(s.trials) for s in study},
         "cpu_count": os.cpu_count(),
     }
     print(f"{'measure':<44} value")
@@ -153,4 +250,9 @@ def run(quick: bool = False) -> dict[str, Any]:
               "max_error_determined_pct", "resume_after_kill_ok", "worker_kill_ok"):
         v = result[k]
         print(f"{k:<44} {v:.3f}" if isinstance(v, float) else f"{k:<44} {v}")
+    print(f"{'variant':<20}{'subjects':>9}{'determined':>11}{'covered':>8}{'worst %':>9}{'misfit':>8}")
+    for v, row in result["by_variant"].items():
+        worst = row["max_error_determined_pct"]
+        print(f"{v:<20}{row['subjects']:>9}{row['determined_with_truth']:>11}{row['covered']:>8}"
+              f"{'—' if worst is None else f'{worst:.2f}':>9}{row['median_misfit_ratio'] or float('nan'):>8.2f}")
     return result
