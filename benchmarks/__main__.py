@@ -20,7 +20,8 @@ BENCHMARKS = {"drivers": "benchmarks.drivers", "pmp_opensim": "benchmarks.pmp_op
               "diagnosis_family_c": "benchmarks.diagnosis_family_c",
               "diagnosis_family_d": "benchmarks.diagnosis_family_d",
               "sindy_peer_families": "benchmarks.sindy_peer_families",
-              "pmp_realistic": "benchmarks.pmp_realistic", "lsl": "benchmarks.lsl"}
+              "pmp_realistic": "benchmarks.pmp_realistic", "lsl": "benchmarks.lsl",
+              "pmp_speed": "benchmarks.pmp_speed"}
 
 
 def main(argv: list[str] | None = None) -> int:

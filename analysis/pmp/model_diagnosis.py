@@ -523,7 +523,7 @@ def _key_fits(job: FitJob, context: dict[str, Any] | None = None) -> FitOutcome:
             fit = solve(shared)
         else:
             fit = estimate([trials[j] for j in fold.fitted], subject, leg=leg, intervals=w["intervals"], extension=ext,
-                           initial=w["initial"], held_out_s=held, expand=ext is not None)
+                           initial=w["initial"], held_out_s=held)
         out.append((_heldout_rms(fit, fold, w, ext), dict(fit.extension_parameters)))
     whole = None
     if rule is not None and key is not None:

@@ -132,7 +132,7 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
              max_iter: int = 300, initial: dict[str, float] | None = None, parameters: ParameterSet | None = None,
              moment: Any = None, extension: Any = None,
              progress: Callable[[int, float], None] | None = None,
-             held_out_s: list[list[tuple[float, float]]] | None = None, expand: bool = False,
+             held_out_s: list[list[tuple[float, float]]] | None = None, expand: bool = True,
              fit_set_angles: bool = True) -> PmpResult:
     """Fit the passive parameters shared by ``trials`` (all at once): :func:`build_problem`, then :func:`solve`.
 
@@ -167,7 +167,7 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
 def build_problem(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None = None, intervals: int = 40,
                   max_iter: int = 300, initial: dict[str, float] | None = None, parameters: ParameterSet | None = None,
                   moment: Any = None, extension: Any = None,
-                  held_out_s: list[list[tuple[float, float]]] | None = None, expand: bool = False,
+                  held_out_s: list[list[tuple[float, float]]] | None = None, expand: bool = True,
                   fit_set_angles: bool = True) -> PmpProblem:
     """The collocation problem of :func:`estimate` (its arguments), built and not solved; ``expand``: the
     problem's functions expanded into scalar operations for the solver (slower to make, faster per iteration:
@@ -216,9 +216,11 @@ def build_problem(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles |
     if problem.set_angles is not None:
         problem.regularisation = problem.regularisation + SET_ANGLE_PRIOR_WEIGHT * ca.sumsqr(problem.set_angles)
     opti.minimize(problem.cost + problem.regularisation)
-    # expanded into scalar operations once, when the solver is made (≈ 2 s), each IPOPT iteration is 6–8×
-    # cheaper (end-range structures on six OpenSim trials, 12 intervals: 14.8 → 1.8 s per solve): worth it for a
-    # problem solved again and again or over many iterations, not for one plain fit (20 iterations: 5.3 → 7.1 s).
+    # expanded into scalar operations once, when the solver is made (≈ 1–2 s), each IPOPT iteration is 6–8×
+    # cheaper with an extension (end-range structures on six OpenSim trials, 12 intervals: 14.8 → 1.8 s per solve)
+    # and 1.1–2× for the plain model, which since the vectorised constraints is never slower expanded (measured
+    # 2026-11-27, same iterations and cost: six OpenSim trials, 16 intervals, 68 iterations 9.9 → 5.7 s, 29
+    # iterations 7.7 → 4.2 s; the synthetic six trials 5.2 → 4.5 s, 30 intervals 8.3 → 7.3 s; one trial 1.4 → 1.5 s).
     # Only the paths' Taylor polynomials are expanded: with the B-spline tables (a moving joint axis, another
     # passive model) the axis fit went 43 → 40 s per solve and 2 → 14 s to build
     expand = expand and moment is None

@@ -186,9 +186,9 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
 
     :raises InputError: ``extension`` names no extension, or is given with ``diagnose_model``.
     """
-    from .model_diagnosis import get_extension
-
     named = extension
+    if named is not None or diagnose_model:  # (the diagnosis's module imports scipy.stats: ≈ 1 s, only when asked)
+        from .model_diagnosis import get_extension
     if named is not None:
         if diagnose_model:
             raise InputError("give an extension to fit or ask for the model-level diagnosis, not both")
