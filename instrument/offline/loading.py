@@ -106,6 +106,8 @@ def load_trials(items: Sequence[str | TrialRecord], store: SessionStore | None) 
                                       "session store (--store)")
             rec = item if isinstance(item, TrialRecord) else store.trial(int(item))
             out.append(LoadedTrial(str(rec.id), Path(rec.path), rec, store.subject(rec.subject_code).as_dict()))
+        elif Path(item).is_dir():
+            raise InstrumentError(f"{item}: a folder, not a trial file; give the trial files in it (e.g. {item}/*.csv)")
         else:
             out.append(LoadedTrial(item, Path(item)))
     return out

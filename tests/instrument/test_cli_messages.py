@@ -73,3 +73,12 @@ def test_a_csv_without_its_sidecar_says_so(tmp_path: Path, capsys: pytest.Captur
     assert main(["analyze", "pmp", str(csv), "--out", str(tmp_path / "out")]) == 1
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "sidecar" in err[0] and "None" not in err[0]
+
+
+@pytest.mark.parametrize("command", [["analyze", "pmp"], ["diagnose"], ["analyze", "afo"]])
+def test_a_folder_given_for_a_trial_file_is_named_without_an_errno(command: list[str], tmp_path: Path,
+                                                                     capsys: pytest.CaptureFixture[str]) -> None:
+    assert main([*command, str(tmp_path), "--out", str(tmp_path / "out")] if command[0] == "analyze"
+                else [*command, str(tmp_path)]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and str(tmp_path) in err[0] and "folder" in err[0] and "Errno" not in err[0]
