@@ -186,7 +186,7 @@ def _worker_killed(study: list[StudySubject], intervals: int) -> bool:
 
 def run(quick: bool = False) -> dict[str, Any]:
     subjects = 6 if quick else 12
-    bootstrap = 6 if quick else 20
+    bootstrap = 6 if quick else 10
     loop_subjects = 2 if quick else 3
     speed = 15.0 if quick else 5.0
     intervals = 12
