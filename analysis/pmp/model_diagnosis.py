@@ -513,8 +513,7 @@ def _key_fits(job: FitJob, context: dict[str, Any] | None = None) -> FitOutcome:
     ext = get_extension(key) if key else None
     shared = None
     if all(f.held_out_s is not None and len(f.fitted) == len(trials) for f in folds):
-        shared = build_problem(trials, subject, leg=leg, intervals=w["intervals"], extension=ext, initial=w["initial"],
-                               expand=True)
+        shared = build_problem(trials, subject, leg=leg, intervals=w["intervals"], extension=ext, initial=w["initial"])
     out = []
     for fold in folds:
         held = [list(win) for win in fold.held_out_s] if fold.held_out_s is not None else None
@@ -534,8 +533,7 @@ def _key_fits(job: FitJob, context: dict[str, Any] | None = None) -> FitOutcome:
                 shared.leave_out(None)
                 fit = solve(shared)
             else:
-                fit = estimate(trials, subject, leg=leg, intervals=w["intervals"], extension=ext, initial=w["initial"],
-                               expand=True)
+                fit = estimate(trials, subject, leg=leg, intervals=w["intervals"], extension=ext, initial=w["initial"])
             whole = (dict(fit.extension_parameters), dict(fit.parameters))
     return out, whole
 

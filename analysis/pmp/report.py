@@ -7,7 +7,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -20,6 +20,9 @@ from .model import moment_function, with_set_angles
 from .muscles import COMPLIANT, LegMuscles, scale_for_subject
 from .stiffness import FIGURE_QUANTITIES, achilles_stiffness_kn_per_m, representative_values
 from .verify import Verification, forward_dynamics
+
+if TYPE_CHECKING:
+    from .model_diagnosis import Extension
 
 #: how far (deg) a trial may leave the muscle paths' fitted range
 RANGE_MARGIN_DEG = 2.0
@@ -174,6 +177,19 @@ def subject_from(data: dict[str, Any]) -> Subject:
                    mass_sd_kg=sd.get("mass_sd_kg", MEASUREMENT_SD["mass_kg"]))
 
 
+def named_extension(name: str) -> Extension:
+    """The model extension ``name`` (:data:`analysis.pmp.model_diagnosis.EXTENSIONS`, or two joined by ``+``).
+
+    :raises InputError: no extension has that name.
+    """
+    from .model_diagnosis import EXTENSIONS, JOIN, get_extension
+
+    try:
+        return get_extension(name)
+    except KeyError as err:
+        raise InputError(f"no model extension {name!r}; known: {', '.join(EXTENSIONS)} (two joined by {JOIN!r})") from err
+
+
 def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagnose_model: bool = False,
             model_candidates: list[str] | None = None, model_intervals: int | None = None,
             progress: Callable[[str], None] | None = None, extension: str | None = None) -> PmpReport:
@@ -186,19 +202,11 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
 
     :raises InputError: ``extension`` names no extension, or is given with ``diagnose_model``.
     """
-    named = extension
-    if named is not None or diagnose_model:  # (the diagnosis's module imports scipy.stats: ≈ 1 s, only when asked)
-        from .model_diagnosis import get_extension
-    if named is not None:
+    if extension is not None:
         if diagnose_model:
             raise InputError("give an extension to fit or ask for the model-level diagnosis, not both")
-        try:
-            get_extension(named)
-        except KeyError as err:
-            from .model_diagnosis import EXTENSIONS, JOIN
-
-            raise InputError(f"no model extension {named!r}; known: {', '.join(EXTENSIONS)} (two joined by "
-                             f"{JOIN!r})") from err
+        named_extension(extension)  # refused before any fit
+    named = extension
     leg = LegMuscles(length_scale=scale_for_subject(subject.shank_length_m))
 
     def iteration(i: int, objective: float) -> None:
@@ -226,7 +234,7 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
         # extend the model with what the diagnosis named (or the caller gave), refit, and report the extended
         # model's parameters with the extension's parameters as nuisances in their intervals; the plain fit is
         # kept beside it
-        fitted_extension = get_extension(named)
+        fitted_extension = named_extension(named)
         if progress is not None:
             progress(f"refit with {fitted_extension.name} ...")
         plain_res, plain_idf = res, idf
@@ -236,9 +244,9 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
         # muscle parameter at a bound, it is repeated from the generic model and the lower cost is kept
         # (expanded for the solver: an extended fit takes 60–130 iterations, each 6–8× cheaper expanded)
         fits = [estimate(trials, subject, leg=leg, intervals=intervals, extension=fitted_extension,
-                         initial=plain_res.parameters, expand=True)]
+                         initial=plain_res.parameters)]
         if not fits[0].success or parameters_at_bound(fits[0]):
-            fits.append(estimate(trials, subject, leg=leg, intervals=intervals, extension=fitted_extension, expand=True))
+            fits.append(estimate(trials, subject, leg=leg, intervals=intervals, extension=fitted_extension))
         res = min((f for f in fits if f.success), key=lambda f: f.fun, default=fits[0])
         idf = identifiability(res, trials, subject, leg=leg, extension=fitted_extension)
         values = [float(res.extension_parameters[n]) for n in fitted_extension.parameters]

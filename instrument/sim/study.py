@@ -112,9 +112,11 @@ def passive_table(protocol: IsokineticProtocol, leg: Any) -> tuple[np.ndarray, n
     return deg, np.asarray(nm, dtype=float)
 
 
-def subject_protocols(table: MomentTable, speed_deg_s: float) -> list[IsokineticProtocol]:
-    """The six sweeps, each starting where the passive moment (``table``) is within :data:`SWEEP_TORQUE_LIMIT_NM`."""
-    out: list[IsokineticProtocol] = []
+def subject_protocols(table: MomentTable,
+                      speed_deg_s: float) -> list[tuple[IsokineticProtocol, tuple[np.ndarray, np.ndarray]]]:
+    """The six sweeps, each starting where the passive moment (``table``) is within :data:`SWEEP_TORQUE_LIMIT_NM`,
+    each with its table."""
+    out: list[tuple[IsokineticProtocol, tuple[np.ndarray, np.ndarray]]] = []
     for proto in [KneeProtocol(hip_flexion_deg=h, speed_deg_s=speed_deg_s) for h in (90.0, 55.0, 15.0)] + \
                  [AnkleProtocol(knee_flexion_deg=k, speed_deg_s=speed_deg_s) for k in (0.0, 45.0, 90.0)]:
         deg, nm = table(proto)
@@ -127,7 +129,7 @@ def subject_protocols(table: MomentTable, speed_deg_s: float) -> list[Isokinetic
         start = float(along[0]) + (1.0 if proto.end_deg > proto.start_deg else -1.0)
         if abs(proto.end_deg - start) < 20.0:
             continue
-        out.append(replace(proto, start_deg=start))
+        out.append((replace(proto, start_deg=start), (deg, nm)))
     return out
 
 
@@ -145,8 +147,7 @@ def record_study(store_dir: Path, subjects: int, *, seed: int = 0, speed_deg_s: 
     for draw in draws:
         store.add_subject(draw.subject)
         session = store.new_session(draw.subject.code, operator="study-operator", notes="simulated study")
-        for proto in subject_protocols(draw.moment_table, speed_deg_s):
-            jobs.append((draw, session, proto, draw.moment_table(proto)))
+        jobs += [(draw, session, proto, table) for proto, table in subject_protocols(draw.moment_table, speed_deg_s)]
     lock = threading.Lock()
     errors: list[BaseException] = []
     done = [0]
