@@ -458,13 +458,12 @@ def _parameter_figure(report: PmpReport) -> Any:
     return fig
 
 
-def write_plots(report: PmpReport, out_dir: str | Path) -> list[Path]:
-    """Measured against simulated torque and angle per trial; parameters against the generic model."""
+def _fit_figure(report: PmpReport) -> Any:
+    """Per trial: measured and fitted torque against angle (with a named extension's share, dashed), and
+    measured and forward-simulated angle against time."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
     res: PmpResult = report.result
     n = len(res.trials)
     fig = Figure(figsize=(4.5 * n, 6.5), layout="constrained")
@@ -477,18 +476,25 @@ def write_plots(report: PmpReport, out_dir: str | Path) -> list[Path]:
         a.set_title(tr["name"])
         a.set_xlabel("angle (°)")
         a.set_ylabel("torque (N·m)")
-        a.legend(fontsize=7)
         if report.extended is not None:  # what the named extension adds to this trial's model torque (u = −M)
             angle_deg, moment = report.extended.contribution_nm[i]
             a.plot(angle_deg, -np.asarray(moment), color="C3", lw=1, ls="--",
                    label=f"{report.extended.extension} (its share)")
+        a.legend(fontsize=7)  # after every line, the extension's share included
         b.plot(tr["time_s"], np.rad2deg(tr["measured_angle_rad"]), ".", ms=2, color="0.5", label="measured")
         b.plot(fd.time_s, np.rad2deg(fd.simulated_angle_rad), color="C1", label="forward dynamics")
         b.set_xlabel("time (s)")
         b.set_ylabel("angle (°)")
         b.legend(fontsize=7)
+    return fig
+
+
+def write_plots(report: PmpReport, out_dir: str | Path) -> list[Path]:
+    """Measured against simulated torque and angle per trial; parameters against the generic model."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
     files = [out / "pmp_fit.png"]
-    fig.savefig(files[0], dpi=100)
+    _fit_figure(report).savefig(files[0], dpi=100)
     files.append(out / "pmp_parameters.png")
     _parameter_figure(report).savefig(files[-1], dpi=100)
     (out / "pmp_report.json").write_text(json.dumps(to_json(report), indent=2, default=float))

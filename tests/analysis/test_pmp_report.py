@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from analysis.pmp.report import _parameter_figure, analyse, to_json, write_plots
+from analysis.pmp.report import _fit_figure, _parameter_figure, analyse, to_json, write_plots
 from analysis.pmp.synthetic import simulated_subject
 
 
@@ -43,3 +43,7 @@ def test_a_named_extension_is_fitted_directly_without_the_diagnosis() -> None:
     # the offset's moment toward positive angles opposes the dynamometer's added torque
     assert abs(ext.parameters["ankle_offset_Nm"] + 1.5) < 0.3
     assert ext.misfit_ratio < ext.plain_misfit_ratio - 0.2
+    # its share is drawn in every trial's torque panel and named in that panel's legend
+    torque_panels = _fit_figure(report).axes[: len(offset)]
+    assert all("torque_offset (its share)" in [t.get_text() for t in ax.get_legend().get_texts()]
+               for ax in torque_panels)
