@@ -151,6 +151,12 @@ def build_parser() -> argparse.ArgumentParser:
     cohort.add_argument("--workers", type=int, default=None, help="LocalCluster worker processes (default: cores)")
     cohort.add_argument("--intervals", type=int, default=12, help="collocation intervals per trial")
     cohort.add_argument("--seed", type=int, default=0, help="seed of the bootstrap resamples")
+    cohort_model = cohort.add_mutually_exclusive_group()
+    cohort_model.add_argument("--diagnose-model", action="store_true",
+                              help="diagnose each subject's model first (as analyze pmp --diagnose-model) and fit "
+                                   "the extension it names, its bootstrap refits too")
+    cohort_model.add_argument("--extension", default=None, metavar="NAME",
+                              help="fit every subject with the model extended by NAME (as analyze pmp --extension)")
     cohort.add_argument("--out", type=Path, default=Path("cohort_report"))
     cohort.add_argument("--json", action="store_true")
     pmp = analyses.add_parser("pmp", help="passive muscle-tendon parameters from knee and ankle trials (collocation)")
@@ -237,19 +243,25 @@ def cmd_analyze_replica(args: argparse.Namespace) -> int:
 
 
 def cmd_analyze_cohort(args: argparse.Namespace) -> int:
+    from analysis.pmp.cohort import DIAGNOSED
     from analysis.pmp.cohort_report import text
 
     from .offline.cohort import analyze_cohort, default_every, engine_account, progress_printer
 
     if args.bootstrap < 2:
         raise InstrumentError("--bootstrap must be at least 2 (an interval needs a spread)")
+    if args.extension:
+        from analysis.pmp.report import named_extension
+
+        named_extension(args.extension)  # an unknown name refused in one line before any fit
+    extension = DIAGNOSED if args.diagnose_model else args.extension
     with SessionStore(args.store) as store:
         n_subjects = len(args.subjects) if args.subjects else len(store.subjects())
         show = progress_printer(sys.stderr if args.json else sys.stdout,
                                 every=default_every(n_subjects * (1 + args.bootstrap)))
         run, files = analyze_cohort(store, args.out, codes=args.subjects, bootstrap=args.bootstrap,
                                     intervals=args.intervals, seed=args.seed, scheduler=args.scheduler,
-                                    workers=args.workers, progress=show)
+                                    workers=args.workers, progress=show, extension=extension)
     if args.json:
         print(json.dumps({"engine": engine_account(run, len(run.summaries)), "subjects": run.summaries,
                           "afo_sets": {k: v["json"] for k, v in run.afo_sets.items()}}, indent=2, default=float))

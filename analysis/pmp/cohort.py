@@ -22,6 +22,12 @@ bootstrap estimates + the bound on the bias the muscle model's own error can cau
 systematic error); the percentile interval of the bootstrap estimates is reported beside it. A parameter counts as
 *determined* when the subject's fit says so (:func:`analysis.pmp.estimator.identifiability`) and
 the bootstrap interval is within ±6.9 % (1.96 × 3.5 %).
+
+A model extension (:attr:`FitTask.extension`): every fit of the subject (its own and each resample's) has the
+extension's terms beside the muscles' (:mod:`analysis.pmp.model_diagnosis`), and the resamples are drawn about
+the extended model's torque. :data:`DIAGNOSED` asks for the model-level diagnosis of the subject's trials first:
+the extension it names, if any, is then the subject's, and its resamples are fitted with it (the diagnosis's
+choice is not resampled: the intervals are conditional on it).
 """
 
 from __future__ import annotations
@@ -36,7 +42,7 @@ from typing import Any
 import numpy as np
 
 from .identifiability import autocorrelation_time, identifiability, smoothed
-from .model import PmpTrial, Subject, moment_function
+from .model import PmpTrial, Subject, moment_function, with_set_angles
 from .muscles import LegMuscles, scale_for_subject
 from .problem import estimate
 
@@ -46,6 +52,8 @@ METHOD_VERSION = "cohort-3"
 DETERMINED_HALF_WIDTH_REL = 1.96 * 0.035
 #: shortest residual block of the sweep bootstrap (s)
 MIN_BLOCK_S = 1.0
+#: :attr:`FitTask.extension` asking for each subject's model-level diagnosis first (its named extension fitted)
+DIAGNOSED = "diagnosed"
 
 
 @dataclass
@@ -56,6 +64,9 @@ class FitTask:
     :ivar intervals: collocation intervals per trial.
     :ivar initial: parameters to start from (the subject's fit, for a bootstrap refit), or None.
     :ivar inputs: what the trials came from (store trial ids, file SHA-256), recorded with the result.
+    :ivar extension: a model extension fitted beside the muscles (a name of
+        :data:`analysis.pmp.model_diagnosis.EXTENSIONS`, two joined by ``+``), :data:`DIAGNOSED` (replicate 0
+        only: the subject's model-level diagnosis chooses), or None (the muscle model alone).
     """
 
     subject_code: str
@@ -65,6 +76,7 @@ class FitTask:
     intervals: int = 12
     initial: dict[str, float] | None = None
     inputs: dict[str, Any] = field(default_factory=dict)
+    extension: str | None = None
 
     @property
     def key(self) -> str:
@@ -74,6 +86,8 @@ class FitTask:
         s = self.subject
         h.update(f"{s.mass_kg!r}|{s.shank_length_m!r}|{s.foot_length_m!r}|{s.arm_inertia_kgm2!r}|".encode())
         h.update(f"{s.shank_length_sd_m!r}|{s.set_angle_sd_rad!r}|{s.mass_sd_kg!r}|".encode())  # in the intervals
+        if self.extension:  # (the muscle model alone keeps the keys it had before extensions were offered)
+            h.update(f"extension={self.extension}|".encode())
         for t in self.trials:
             h.update(f"{t.joint}|{sorted(t.fixed_rad.items())!r}|".encode())
             for a in (t.time_s, t.angle_rad, t.velocity_rad_s, t.torque_nm):
@@ -102,28 +116,58 @@ def run_fit_task(task: FitTask) -> dict[str, Any]:
     bootstrap needs: the identifiability analysis, the forward-dynamics errors per trial and the
     fitted torque of every trial.
     """
+    from .model_diagnosis import diagnose_model, fit_extended, get_extension, predict_torque_nm
     from .verify import forward_dynamics
 
     started = time.perf_counter()
     leg = LegMuscles(length_scale=scale_for_subject(task.subject.shank_length_m))
-    res = estimate(task.trials, task.subject, leg=leg, intervals=task.intervals, initial=task.initial)
+    name = task.extension
+    diagnosis = None
+    if name == DIAGNOSED or (name and task.replicate == 0):
+        plain = estimate(task.trials, task.subject, leg=leg, intervals=task.intervals, initial=task.initial)
+        if name == DIAGNOSED:
+            # one process: a study's subjects are already fitted side by side
+            diagnosis = diagnose_model(task.trials, task.subject, leg=leg, intervals=task.intervals, plain=plain,
+                                       workers=1)
+            name = None if diagnosis.cause == "none" else diagnosis.cause
+    extension = get_extension(name) if name else None
+    if extension is None:
+        res = plain if diagnosis is not None else estimate(task.trials, task.subject, leg=leg,
+                                                           intervals=task.intervals, initial=task.initial)
+    elif task.replicate == 0:  # from the plain fit, as the single-subject report refits
+        res = fit_extended(task.trials, task.subject, extension, leg=leg, intervals=task.intervals, plain=plain)
+    else:  # a resample, from the subject's extended fit
+        res = estimate(task.trials, task.subject, leg=leg, intervals=task.intervals, initial=task.initial,
+                       extension=extension)
     out: dict[str, Any] = {
         "key": task.key, "subject_code": task.subject_code, "replicate": task.replicate,
         "parameters": dict(res.parameters), "generic": dict(res.generic), "success": bool(res.success),
         "status": res.solver_status, "message": res.message, "iterations": int(res.nit),
         "solve_time_s": float(res.solve_time_s), "inputs": task.inputs, "intervals": task.intervals,
-        "method_version": METHOD_VERSION,
+        "method_version": METHOD_VERSION, "extension": name,
+        "extension_parameters": {k: float(v) for k, v in res.extension_parameters.items()},
     }
+    if diagnosis is not None:
+        out["model_diagnosis"] = {"cause": diagnosis.cause, "message": diagnosis.message,
+                                  "conclusive": diagnosis.conclusive, "ambiguous_with": list(diagnosis.ambiguous_with)}
     if task.replicate == 0:
-        idf = identifiability(res, task.trials, task.subject, leg=leg)
+        idf = identifiability(res, task.trials, task.subject, leg=leg, extension=extension)
         out["identifiability"] = {k: getattr(idf, k) for k in ("determined", "undetermined", "ci95", "misfit_ratio",
                                                        "residual_rms_nm", "noise_nm", "not_determined_because",
                                                        "at_bound", "model_error_bound_rel")}
-        fd = [forward_dynamics(t, task.subject, res.parameters, leg=leg) for t in task.trials]
+        fd = [forward_dynamics(t, task.subject, res.parameters, leg=leg, extension=extension,
+                               extension_parameters=res.extension_parameters)
+              for t in with_set_angles(task.trials, res.set_angle_offsets_rad)] if extension is not None else \
+            [forward_dynamics(t, task.subject, res.parameters, leg=leg) for t in task.trials]
         out["forward_dynamics"] = [{"trial": v.name, "angle_rmse_deg": float(v.angle_rmse_deg),
                                     "torque_rmse_nm_per_kg": float(v.torque_rmse_nm_per_kg)} for v in fd]
-        out["fitted_torque_nm"] = [fitted_torque_nm(t, task.subject, res.parameters, leg).tolist()
-                                   for t in task.trials]
+        if extension is None:
+            out["fitted_torque_nm"] = [fitted_torque_nm(t, task.subject, res.parameters, leg).tolist()
+                                       for t in task.trials]
+        else:  # the extended model's torque (its terms included): the resamples are drawn about it
+            out["fitted_torque_nm"] = [predict_torque_nm(res, t, task.subject, leg, extension,
+                                                         indices=np.arange(t.time_s.size))[1].tolist()
+                                       for t in task.trials]
         out["trial_names"] = [t.name for t in task.trials]
     out["task_seconds"] = time.perf_counter() - started
     out["worker_pid"] = os.getpid()
@@ -207,6 +251,8 @@ def subject_summary(main: dict[str, Any], replicates: list[dict[str, Any]],
             "parameters": rows, "bootstrap_failed": len(replicates) - len(ok),
             "forward_dynamics": fd,
             "misfit_ratio": main.get("identifiability", {}).get("misfit_ratio"),
+            "extension": main.get("extension"), "extension_parameters": main.get("extension_parameters", {}),
+            "model_diagnosis": main.get("model_diagnosis"),
             "not_determined_because": main.get("identifiability", {}).get("not_determined_because", [])}
 
 

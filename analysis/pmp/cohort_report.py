@@ -117,8 +117,13 @@ def text(summaries: list[dict[str, Any]], engine: dict[str, Any] | None = None, 
     for s in summaries:
         det = [(n, r) for n, r in s["parameters"].items() if r["determined"]]
         why = "; ".join(s.get("not_determined_because") or [])
-        head = f"  {s['subject_code']}: {len(det)} of {len(s['parameters'])} determined"
+        ext = s.get("extension")
+        model = f" with {ext} ({', '.join(f'{k} {v:.3g}' for k, v in (s.get('extension_parameters') or {}).items())})" \
+            if ext else ""
+        head = f"  {s['subject_code']}{model}: {len(det)} of {len(s['parameters'])} determined"
         lines.append(head + (f" ({why})" if why and not det else ""))
+        if s.get("model_diagnosis"):
+            lines.append(f"    model-level diagnosis: {s['model_diagnosis']['message']}")
         for n, r in det:
             extra = f"  truth {r['truth']:.4g} ({r['error_pct']:+.2f} %)" if "truth" in r else ""
             lines.append(f"    {n:<32} {r['estimate']:.4g} [{r['ci95'][0]:.4g}, {r['ci95'][1]:.4g}]{extra}")

@@ -56,6 +56,8 @@ class Identifiability:
     measurement_se_rel : each parameter's relative SE from the measured inputs (shank, set angles, mass)
     measurement_nuisances : the measured inputs propagated
     extension : the model extension fitted jointly, if any
+    model_misfit : whether the residual's systematic part exceeds what the intervals allow for (the model lacks
+        something these trials show; one of ``not_determined_because``)
     """
 
     determined: list[str]
@@ -78,6 +80,7 @@ class Identifiability:
     measurement_se_rel: dict[str, float]
     measurement_nuisances: list[str]
     extension: str | None
+    model_misfit: bool = False
 
     def as_dict(self) -> dict[str, Any]:
         """The fields as a JSON-ready dict (the report's and the cohort store's form)."""
@@ -306,7 +309,8 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     if undefined:
         reasons.append(f"the fitted model has no value at {undefined} of {n_samples + undefined} samples (the calf "
                        "tendons without an equilibrium there, or an overflow): its parameters are not trusted")
-    if misfit_ratio > misfit_limit and systematic > model_error_nm:
+    model_misfit = misfit_ratio > misfit_limit and systematic > model_error_nm
+    if model_misfit:
         reasons.append(f"the model does not fit the data well enough to determine anything: residual RMS "
                        f"{residual_rms:.3g} N·m is {misfit_ratio:.1f}× the measurement noise ({noise:.3g} N·m; "
                        f"at most {misfit_limit:g}× allowed), its systematic part {systematic:.3g} N·m more than the "
@@ -351,7 +355,7 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
                            + measured_inputs_text(subject, set_angles_fitted),
             measurement_se_rel=dict(zip(names, np.sqrt(measurement_var).tolist())),
             measurement_nuisances=measured,
-            extension=extension.name if extension is not None else None)
+            extension=extension.name if extension is not None else None, model_misfit=model_misfit)
 
 
 def measured_inputs_text(subject: Subject, set_angles_fitted: bool) -> str:

@@ -15,7 +15,7 @@ from ..errors import InputError
 from ..trial_csv import SUBJECT_RANGES, TrialTable
 from .estimator import MEASUREMENT_SD, PmpResult, PmpTrial, Subject, estimate, identifiability
 from .geometry import path_ranges_deg
-from .identifiability import Identifiability, parameters_at_bound
+from .identifiability import Identifiability
 from .model import moment_function, with_set_angles
 from .muscles import COMPLIANT, LegMuscles, scale_for_subject
 from .stiffness import FIGURE_QUANTITIES, achilles_stiffness_kn_per_m, representative_values
@@ -237,17 +237,10 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
         fitted_extension = named_extension(named)
         if progress is not None:
             progress(f"refit with {fitted_extension.name} ...")
+        from .model_diagnosis import fit_extended
+
         plain_res, plain_idf = res, idf
-        # started from the plain fit's parameters; the extension's terms can hold what the plain fit pushed
-        # into the muscles, and from there the refit can stay in that basin (a demo subject's soleus ε0 went
-        # to its bound, at a cost 2 % above the generic start's). So when that refit fails or leaves a
-        # muscle parameter at a bound, it is repeated from the generic model and the lower cost is kept
-        # (expanded for the solver: an extended fit takes 60–130 iterations, each 6–8× cheaper expanded)
-        fits = [estimate(trials, subject, leg=leg, intervals=intervals, extension=fitted_extension,
-                         initial=plain_res.parameters)]
-        if not fits[0].success or parameters_at_bound(fits[0]):
-            fits.append(estimate(trials, subject, leg=leg, intervals=intervals, extension=fitted_extension))
-        res = min((f for f in fits if f.success), key=lambda f: f.fun, default=fits[0])
+        res = fit_extended(trials, subject, fitted_extension, leg=leg, intervals=intervals, plain=plain_res)
         idf = identifiability(res, trials, subject, leg=leg, extension=fitted_extension)
         values = [float(res.extension_parameters[n]) for n in fitted_extension.parameters]
         contribution = []
@@ -314,6 +307,13 @@ def text(report: PmpReport, *, timings: bool = True) -> str:
                      "entered angle (a nuisance with the measurement's prior; the intervals include it)")
     for why in idf.not_determined_because:
         lines.append(f"NOTHING DETERMINED: {why}")
+    if idf.model_misfit and report.model_diagnosis is None and report.extended is None:
+        from .model_diagnosis import EXTENSIONS
+
+        lines.append("  next: the muscle model lacks something these trials show; a model-level diagnosis (the "
+                     "command line's --diagnose-model, about a minute on two cores) fits each extension inside the "
+                     f"estimator ({', '.join(n.replace('_', ' ') for n in EXTENSIONS)}), names the one that predicts "
+                     "left-out data better and reports the parameters beside it")
     for c in idf.free_combinations[:4]:
         comp = " ".join(f"{w:+.2f}·{k}" for k, w in c["components"].items())
         lines.append(f"  free combination: {comp}")

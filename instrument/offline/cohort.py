@@ -179,8 +179,12 @@ def local_client(scheduler: str | None = None, workers: int | None = None) -> tu
 def run_cohort(study: list[StudySubject], results: ResultSink, *, bootstrap: int = 20, intervals: int = 12,
                seed: int = 0, scheduler: str | None = None, workers: int | None = None,
                progress: Callable[[int, int, int, int], None] | None = None,
-               client: Any = None) -> CohortRun:
+               client: Any = None, extension: str | None = None) -> CohortRun:
     """Fit every subject of ``study`` and its ``bootstrap`` resamples on Dask; results kept in ``results``.
+
+    :param extension: a model extension fitted beside every subject's muscles, or
+        :data:`analysis.pmp.cohort.DIAGNOSED` (each subject's model-level diagnosis chooses; its resamples are
+        fitted with what it named); None: the muscle model alone.
 
     :param progress: called as ``progress(done, running, failed, total)`` after every task.
     :param client: an existing ``distributed.Client`` (tests); otherwise one is made (and closed).
@@ -188,7 +192,9 @@ def run_cohort(study: list[StudySubject], results: ResultSink, *, bootstrap: int
     from distributed import as_completed
 
     started = time.perf_counter()
-    settings = {"intervals": intervals, "bootstrap": bootstrap, "seed": seed}
+    settings: dict[str, Any] = {"intervals": intervals, "bootstrap": bootstrap, "seed": seed}
+    if extension:
+        settings["extension"] = extension
     total = len(study) * (1 + bootstrap)
     own = client is None
     cluster = None
@@ -232,15 +238,15 @@ def run_cohort(study: list[StudySubject], results: ResultSink, *, bootstrap: int
                 s = by_code[task.subject_code]
                 for b in range(1, bootstrap + 1):
                     trials = bootstrap_trials(s.trials, result["fitted_torque_nm"], b, seed=seed)
-                    submit(FitTask(s.code, b, trials, s.subject, intervals, result["parameters"], s.inputs),
-                           KIND_BOOTSTRAP)
+                    submit(FitTask(s.code, b, trials, s.subject, intervals, result["parameters"], s.inputs,
+                                   result.get("extension")), KIND_BOOTSTRAP)
         else:
             boots[task.subject_code].append(result)
         tick()
 
     try:
         for s in study:
-            submit(FitTask(s.code, 0, s.trials, s.subject, intervals, None, s.inputs), KIND_FIT)
+            submit(FitTask(s.code, 0, s.trials, s.subject, intervals, None, s.inputs, extension), KIND_FIT)
         for fut in running:
             task, kind = meta.pop(fut.key)
             try:
@@ -320,8 +326,9 @@ def analyze_afo_sets(store: SessionStore) -> dict[str, dict[str, Any]]:
 def analyze_cohort(store: SessionStore, out_dir: Path, *, codes: Sequence[str] | None = None, bootstrap: int = 20,
                    intervals: int = 12, seed: int = 0, scheduler: str | None = None, workers: int | None = None,
                    progress: Callable[[int, int, int, int], None] | None = None,
-                   client: Any = None) -> tuple[CohortRun, list[Path]]:
+                   client: Any = None, extension: str | None = None) -> tuple[CohortRun, list[Path]]:
     """The cohort analysis of a store: fits (on Dask, results kept in the store) and the report files.
+    ``extension``: see :func:`run_cohort`.
 
     ``client``: a ``distributed.Client`` to use (and leave open), e.g. for several runs on one cluster.
     """
@@ -332,8 +339,8 @@ def analyze_cohort(store: SessionStore, out_dir: Path, *, codes: Sequence[str] |
     study = study_from_store(store, codes, left_out) if codes or any(
         t.protocol in kinds.names_feeding(kinds.PASSIVE_PARAMETERS) for t in store.trials()) else []
     run = run_cohort(study, store, bootstrap=bootstrap, intervals=intervals, seed=seed, scheduler=scheduler,
-                     workers=workers, progress=progress, client=client) if study else CohortRun([], 0, 0, 0, [], 0.0, 0.0, 0,
-                                                                                                "none", {})
+                     workers=workers, progress=progress, client=client, extension=extension) \
+        if study else CohortRun([], 0, 0, 0, [], 0.0, 0.0, 0, "none", {})
     run.afo_sets = afo
     run.left_out = left_out
     if not study and not afo:

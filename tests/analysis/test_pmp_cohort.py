@@ -10,11 +10,13 @@ from scipy import stats
 
 from analysis.pmp.cohort import (
     DETERMINED_HALF_WIDTH_REL,
+    DIAGNOSED,
     FitTask,
     _block_resample,
     bootstrap_trials,
     condition_of,
     coverage,
+    run_fit_task,
     subject_summary,
 )
 from analysis.pmp.estimator import PmpTrial, Subject
@@ -39,6 +41,11 @@ def test_task_key_follows_the_data_and_settings_not_the_start_point() -> None:
     assert FitTask("S01", 1, trials, Subject(), 12).key != a.key
     assert FitTask("S01", 0, trials, Subject(mass_kg=76.0), 12).key != a.key
     assert FitTask("S01", 0, trials, Subject(), 24).key != a.key
+    # a model extension is part of the result; the muscle model alone keeps its earlier keys
+    assert FitTask("S01", 0, trials, Subject(), 12, extension=None).key == a.key
+    assert FitTask("S01", 0, trials, Subject(), 12, extension="torque_offset").key != a.key
+    assert FitTask("S01", 0, trials, Subject(), 12, extension=DIAGNOSED).key not in (
+        a.key, FitTask("S01", 0, trials, Subject(), 12, extension="torque_offset").key)
 
 
 def test_repeated_conditions_are_resampled_as_whole_trials_within_the_condition() -> None:
@@ -114,3 +121,35 @@ def test_a_wide_bootstrap_or_an_undetermined_fit_is_not_called_determined() -> N
     assert not subject_summary(_main(determined=False), tight)["parameters"]["a.tendon_slack_length_m"]["determined"]
     one = subject_summary(_main(), tight[:1])["parameters"]["a.tendon_slack_length_m"]
     assert one["ci95"] is None and not one["determined"]
+
+
+def test_a_subject_fitted_with_an_extension_is_resampled_about_the_extended_model() -> None:
+    """A 1.5 N·m arm-weight error on every trial: fitted with ``torque_offset`` the subject's own fit finds the
+    ankle's offset, its fitted torque carries it (the residual about it has no mean left), and a bootstrap
+    refit with the same extension finds it again; the summary names the extension and its value."""
+    import dataclasses
+
+    from analysis.pmp.cohort import fitted_torque_nm
+    from analysis.pmp.cohort_report import text
+    from analysis.pmp.muscles import LegMuscles, scale_for_subject
+    from analysis.pmp.synthetic import simulated_subject
+
+    _, trials, subject = simulated_subject(3, ("knee", "ankle"))
+    offset = [dataclasses.replace(t, torque_nm=t.torque_nm + 1.5) for t in trials]
+    main = run_fit_task(FitTask("S01", 0, offset, subject, 10, extension="torque_offset"))
+    assert main["success"] and main["extension"] == "torque_offset"
+    assert abs(main["extension_parameters"]["ankle_offset_Nm"] + 1.5) < 0.3
+    residual_mean = [float(np.mean(t.torque_nm - np.asarray(f))) for t, f in zip(offset, main["fitted_torque_nm"])]
+    assert max(abs(r) for r in residual_mean) < 0.25, residual_mean
+    # about the same muscles without the extension's terms, the ankle trials would keep the offset
+    leg = LegMuscles(length_scale=scale_for_subject(subject.shank_length_m))
+    without = [float(np.mean(t.torque_nm - fitted_torque_nm(t, subject, main["parameters"], leg)))
+               for t in offset if t.joint == "ankle"]
+    assert min(without) > 1.0, without
+    resample = bootstrap_trials(offset, main["fitted_torque_nm"], 1)
+    again = run_fit_task(FitTask("S01", 1, resample, subject, 10, main["parameters"], extension=main["extension"]))
+    assert again["success"] and "identifiability" not in again
+    assert abs(again["extension_parameters"]["ankle_offset_Nm"] - main["extension_parameters"]["ankle_offset_Nm"]) < 0.3
+    summary = subject_summary(main, [again, again])
+    assert summary["extension"] == "torque_offset" and "model_diagnosis" in summary
+    assert "S01 with torque_offset (knee_offset_Nm" in text([summary])

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from analysis.pmp.report import _fit_figure, _parameter_figure, analyse, to_json, write_plots
+from analysis.pmp.report import _fit_figure, _parameter_figure, analyse, text, to_json, write_plots
 from analysis.pmp.synthetic import simulated_subject
 
 
@@ -43,6 +43,12 @@ def test_a_named_extension_is_fitted_directly_without_the_diagnosis() -> None:
     # the offset's moment toward positive angles opposes the dynamometer's added torque
     assert abs(ext.parameters["ankle_offset_Nm"] + 1.5) < 0.3
     assert ext.misfit_ratio < ext.plain_misfit_ratio - 0.2
+    # a plain report that misfits points at the model-level diagnosis; one already extended does not
+    misfit = dataclasses.replace(report.identifiability, model_misfit=True, determined=[],
+                                 not_determined_because=["the model does not fit the data well enough"])
+    plain_text = text(dataclasses.replace(report, extended=None, identifiability=misfit))
+    assert "next: the muscle model lacks something" in plain_text and "--diagnose-model" in plain_text
+    assert "end range structures" in plain_text and "next:" not in text(dataclasses.replace(report, identifiability=misfit))
     # its share is drawn in every trial's torque panel and named in that panel's legend
     torque_panels = _fit_figure(report).axes[: len(offset)]
     assert all("torque_offset (its share)" in [t.get_text() for t in ax.get_legend().get_texts()]

@@ -147,6 +147,9 @@ def test_cli_refuses_a_bootstrap_without_spread_and_an_empty_store(tmp_path: Pat
     assert main(["analyze", "cohort", "--store", str(tmp_path), "--bootstrap", "2", "--workers", "1"]) == 1
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "no subject with usable knee or ankle trials" in err[0]
+    assert main(["analyze", "cohort", "--store", str(tmp_path), "--extension", "friction"]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "no model extension 'friction'" in err[0]
 
 
 def test_the_same_run_goes_to_a_lab_cluster_by_its_scheduler_address(tmp_path: Path, client: Any) -> None:
