@@ -22,7 +22,7 @@ BENCHMARKS = {"drivers": "benchmarks.drivers", "pmp_opensim": "benchmarks.pmp_op
               "diagnosis_family_d": "benchmarks.diagnosis_family_d",
               "sindy_peer_families": "benchmarks.sindy_peer_families",
               "pmp_realistic": "benchmarks.pmp_realistic", "lsl": "benchmarks.lsl",
-              "pmp_speed": "benchmarks.pmp_speed"}
+              "pmp_speed": "benchmarks.pmp_speed", "pmp_segment_scales": "benchmarks.pmp_segment_scales"}
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -60,7 +60,7 @@ def opensim_draw(index: int, seed: int) -> StudyDraw:
     subject's variant hidden, a moment table per protocol sweep (knee at hip 90/55/15°, ankle at knee 0/45/90°)."""
     from .opensim_truth import draw_truth, generic_parameters, model_path, opensim
     from .pmp_opensim import SHANK_M
-    from .pmp_realistic import _limit_forces
+    from .pmp_realistic import THIGH_M, _limit_forces
 
     variant = VARIANTS[index % len(VARIANTS)]
     rng = np.random.default_rng([seed, index])
@@ -93,7 +93,9 @@ def opensim_draw(index: int, seed: int) -> StudyDraw:
         tables[_sweep_key(proto)] = (fine, CubicSpline(grid, moments)(fine))
     tape_m = float(rng.uniform(-0.005, 0.005)) if variant == "tape" else 0.0
     mass = float(rng.uniform(60.0, 90.0))
-    subject = Subject(f"OS{index + 1:02d}", "unknown", None, mass, None, None, SHANK_M + tape_m, None, FOOT_M)
+    # the thigh measured too (the model's hip to knee; in the tape variant within ±5 mm, like the shank)
+    thigh_m = THIGH_M + (float(rng.uniform(-0.005, 0.005)) if variant == "tape" else 0.0)
+    subject = Subject(f"OS{index + 1:02d}", "unknown", None, mass, None, thigh_m, SHANK_M + tape_m, None, FOOT_M)
     flat = {f"{m}.{what}": float(v) for m, row in truth.items() for what, v in row.items()}
     return StudyDraw(subject, flat, lambda proto: tables[_sweep_key(proto)], variant=variant, true_shank_length_m=SHANK_M)
 

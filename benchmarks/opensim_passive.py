@@ -20,7 +20,12 @@ The request names the ``.osim`` model, the muscles' parameters, the poses and th
 * ``limit_forces``: OpenSim's own ``CoordinateLimitForce`` per coordinate, ``{"knee": {"upper_deg",
   "upper_stiffness_Nm_per_deg", "lower_deg", "lower_stiffness_Nm_per_deg", "transition_deg"}, ...}``
   (capsule and ligaments at the range's ends); their generalized force (``calcLimitForce``) is added
-  to the coordinate's moment.
+  to the coordinate's moment;
+* ``segment_scales``: per body (``femur_r``, ``tibia_r``, ``talus_r`` …), an isotropic scale factor applied
+  with OpenSim's own ``Model.scale`` (what the Scale Tool does with manual factors; the muscles' optimal fibre
+  and tendon slack lengths follow their paths, as OpenSim scales them). ``parameters``' slack lengths are
+  then taken relative to the unscaled model's (the subject's draw about the generic muscle) and applied to the
+  scaled ones; the answer's ``tendon_slack_length_m`` holds every muscle's slack length as simulated.
 
 At each pose the coordinates are set and the pose assembled; each muscle's tendon force at rest
 comes from OpenSim's own curves (``calcPassiveForceMultiplier``, ``calcTendonForceMultiplier``,
@@ -104,6 +109,54 @@ def path_geometry(request: dict[str, Any]) -> dict[str, Any]:
     return {"path_length_m": lengths, "moment_arm_m": arms}
 
 
+#: the bodies each measured segment's scale factor applies to (as a Scale Tool setup would group them)
+SEGMENT_BODIES = {"thigh": ("pelvis", "femur_r", "patella_r"), "shank": ("tibia_r",),
+                  "foot": ("talus_r", "calcn_r", "toes_r")}
+
+
+def segment_fractions(request: dict[str, Any]) -> dict[str, Any]:
+    """How each muscle's path length follows each segment's scale: (ΔL/L)/δ when the segment's bodies are
+    scaled by 1 + δ (``request["step"]``, default 0.02) with ``Model.scale``, at ``request["poses"]``. One
+    segment's fractions of all three sum to about 1 (a uniform scale lengthens every path by δ)."""
+    import opensim as osim
+
+    osim.Logger.setLevelString("error")
+    step = float(request.get("step", 0.02))
+    names = list(request.get("muscles") or MUSCLES)
+
+    def lengths(segment: str | None) -> list[list[float]]:
+        model = osim.Model(request["model"])
+        if segment is not None:
+            scales = osim.ScaleSet()
+            for body in SEGMENT_BODIES[segment]:
+                scale = osim.Scale()
+                scale.setSegmentName(body)
+                scale.setScaleFactors(osim.Vec3(1.0 + step, 1.0 + step, 1.0 + step))
+                scale.setApply(True)
+                scales.cloneAndAppend(scale)
+            state = model.initSystem()
+            if not model.scale(state, scales, True, -1.0):
+                raise RuntimeError("OpenSim could not scale the model")
+        state = model.initSystem()
+        coords = {k: model.getCoordinateSet().get(v) for k, v in COORDINATES.items()}
+        out = []
+        for pose in request["poses"]:
+            for k, c in coords.items():
+                c.setValue(state, float(pose[k]), False)
+            model.assemble(state)
+            model.realizePosition(state)
+            out.append([model.getMuscles().get(f"{n}_r").getLength(state) for n in names])
+        return out
+
+    base = lengths(None)
+    fractions: dict[str, dict[str, list[float]]] = {n: {} for n in names}
+    for segment in SEGMENT_BODIES:
+        scaled = lengths(segment)
+        for i, n in enumerate(names):
+            fractions[n][segment] = [(s[i] - b[i]) / b[i] / step for s, b in zip(scaled, base)]
+    return {"step": step, "bodies": {k: list(v) for k, v in SEGMENT_BODIES.items()}, "fractions": fractions}
+
+
 def passive_moments(request: dict[str, Any]) -> dict[str, Any]:
     """Answer one request (see the module docstring)."""
     import opensim as osim
@@ -111,6 +164,20 @@ def passive_moments(request: dict[str, Any]) -> dict[str, Any]:
     osim.Logger.setLevelString("error")
     model = osim.Model(request["model"])
     osim.DeGrooteFregly2016Muscle.replaceMuscles(model)
+    slack_factor: dict[str, float] = {}
+    if request.get("segment_scales"):
+        generic = {n: model.getMuscles().get(f"{n}_r").getTendonSlackLength() for n in MUSCLES + OTHER_MUSCLES}
+        scales = osim.ScaleSet()
+        for body, factor in request["segment_scales"].items():
+            scale = osim.Scale()
+            scale.setSegmentName(body)
+            scale.setScaleFactors(osim.Vec3(float(factor), float(factor), float(factor)))
+            scale.setApply(True)
+            scales.cloneAndAppend(scale)
+        state = model.initSystem()
+        if not model.scale(state, scales, True, -1.0):
+            raise RuntimeError("OpenSim could not scale the model")
+        slack_factor = {n: model.getMuscles().get(f"{n}_r").getTendonSlackLength() / generic[n] for n in generic}
     activation = float(request.get("activation", 0.0))
     compliant_knee = bool(request.get("compliant_knee_tendons", False))
     everyone = MUSCLES + (OTHER_MUSCLES if request.get("unmodelled_muscles") else ())
@@ -126,7 +193,7 @@ def passive_moments(request: dict[str, Any]) -> dict[str, Any]:
         m = osim.DeGrooteFregly2016Muscle.safeDownCast(model.getMuscles().get(f"{name}_r"))
         p = request.get("parameters", {}).get(name, {})
         if "tendon_slack_length_m" in p:
-            m.setTendonSlackLength(float(p["tendon_slack_length_m"]))
+            m.setTendonSlackLength(float(p["tendon_slack_length_m"]) * slack_factor.get(name, 1.0))
         if "passive_strain" in p:
             m.set_passive_fiber_strain_at_one_norm_force(float(p["passive_strain"]))
         if "tendon_strain" in p:
@@ -166,7 +233,8 @@ def passive_moments(request: dict[str, Any]) -> dict[str, Any]:
         for k in COORDINATES:
             moments[k].append(total[k])
     return {"moments_nm": moments, "path_length_m": lengths, "moment_arm_m": arms, "tendon_force_n": forces,
-            "limit_moments_nm": limit_moments}
+            "limit_moments_nm": limit_moments,
+            "tendon_slack_length_m": {name: m.getTendonSlackLength() for name, m in muscles.items()}}
 
 
 def _static_tendon_force(m: Any, path_length_m: float, activation: float) -> float:
@@ -214,6 +282,8 @@ def main() -> int:
         answer = model_facts(request["model"])
     elif request.get("what") == "paths":
         answer = path_geometry(request)
+    elif request.get("what") == "segment_fractions":
+        answer = segment_fractions(request)
     else:
         answer = passive_moments(request)
     # OpenSim's logger writes to stdout too (an assembly that misses its tolerance by 1e-9 at some pose):

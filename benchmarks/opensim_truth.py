@@ -128,13 +128,19 @@ def make_trials(truth: dict[str, dict[str, float]], seed: int, *, variant: str =
                 angle_noise_deg: float = 0.1, max_torque_nm: float = 150.0,
                 limit_forces: dict[str, dict[str, float]] | None = None,
                 unmodelled_muscles: bool = False, set_angle_errors_rad: list[float] | None = None,
-                compliant_knee_tendons: bool | None = None, activation: float | None = None) -> list[TruthTrial]:
+                compliant_knee_tendons: bool | None = None, activation: float | None = None,
+                segment_scales: dict[str, float] | None = None,
+                simulated_slack_m: dict[str, float] | None = None) -> list[TruthTrial]:
     """The six sweeps of one subject with ``truth`` parameters (OpenSim-made passive moments); with
     ``limit_forces`` OpenSim's ``CoordinateLimitForce`` at those coordinates' range ends, with
     ``unmodelled_muscles`` the passive forces of every other muscle crossing knee or ankle
     (:mod:`benchmarks.opensim_passive`); with ``set_angle_errors_rad`` (one per sweep) the fixed joint (hip
     for the knee sweeps, knee for the ankle ones) truly sits that far from the angle the trial records;
-    ``compliant_knee_tendons`` and ``activation`` (every muscle's) each on their own (default: the variant's)."""
+    ``compliant_knee_tendons`` and ``activation`` (every muscle's) each on their own (default: the variant's);
+    ``segment_scales`` (per OpenSim body, an isotropic factor) scales the model with OpenSim's ``Model.scale``
+    first (``truth``'s slack lengths then count relative to the generic ones), and ``simulated_slack_m``, if
+    given, receives every muscle's slack length as simulated. ``shank_m`` and ``foot_m`` are the subject's
+    (the limb weight's lever arms)."""
     rng = np.random.default_rng(10_000 + seed)
     plan = sweeps()
     poses, spans = [], []
@@ -154,8 +160,11 @@ def make_trials(truth: dict[str, dict[str, float]], seed: int, *, variant: str =
     request = {"model": str(model_path()), "parameters": truth, "poses": poses,
                "compliant_knee_tendons": variant == "realistic" if compliant_knee_tendons is None else compliant_knee_tendons,
                "activation": (0.01 if variant == "realistic" else 0.0) if activation is None else activation,
-               "limit_forces": limit_forces or {}, "unmodelled_muscles": unmodelled_muscles}
+               "limit_forces": limit_forces or {}, "unmodelled_muscles": unmodelled_muscles,
+               "segment_scales": segment_scales or {}}
     answer = opensim(request)
+    if simulated_slack_m is not None:
+        simulated_slack_m.update(answer["tendon_slack_length_m"])
     trials = []
     for i, ((joint, fixed, start, end, name), grid) in enumerate(zip(plan, spans)):
         moments = np.array(answer["moments_nm"][joint][i * POSES_PER_SWEEP:(i + 1) * POSES_PER_SWEEP])

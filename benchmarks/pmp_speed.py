@@ -45,6 +45,8 @@ INTERVALS = 16
 def _write_csvs(trials: list[Any], folder: Path, shank_m: float, mass_kg: float, foot_m: float) -> list[Path]:
     from analysis.trial_csv import TrialTable, write_trial_csv
 
+    from .pmp_realistic import THIGH_M
+
     files = []
     for t in trials:
         other = {"hip_flexion_deg": float(np.rad2deg(t.fixed_rad.get("hip", 0.0)))}
@@ -55,7 +57,8 @@ def _write_csvs(trials: list[Any], folder: Path, shank_m: float, mass_kg: float,
         table = TrialTable({"time_s": t.time_s, "angle_deg": np.rad2deg(t.angle_rad), "torque_Nm": t.torque_nm,
                             "velocity_deg_s": np.rad2deg(t.velocity_rad_s)},
                            {"kind": t.joint, **other,
-                            "subject": {"mass_kg": mass_kg, "shank_length_m": shank_m, "foot_length_m": foot_m}})
+                            "subject": {"mass_kg": mass_kg, "shank_length_m": shank_m, "foot_length_m": foot_m,
+                                        "thigh_length_m": THIGH_M}})
         files.append(folder / f"{t.name.replace(' ', '_').replace('°', 'deg')}.csv")
         write_trial_csv(files[-1], table)
     return files

@@ -162,8 +162,9 @@ def build_parser() -> argparse.ArgumentParser:
     pmp = analyses.add_parser("pmp", help="passive muscle-tendon parameters from knee and ankle trials (collocation)")
     pmp.set_defaults(run=cmd_analyze_pmp)
     pmp.add_argument("trials", nargs="+", help="store trial ids, .h5 trial files or trial CSVs (with sidecars)")
-    pmp.add_argument("--subject", type=Path, default=None, help="subject JSON (mass_kg, shank_length_m, foot_length_m); "
-                     "default: the first sidecar's subject block")
+    pmp.add_argument("--subject", type=Path, default=None,
+                     help="subject JSON (mass_kg, shank_length_m, foot_length_m; thigh_length_m if measured); "
+                          "default: the first sidecar's subject block")
     pmp.add_argument("--store", type=Path, default=None)
     pmp.add_argument("--intervals", type=int, default=24, help="collocation intervals per trial")
     pmp.add_argument("--out", type=Path, default=Path("pmp_report"))

@@ -43,7 +43,7 @@ import numpy as np
 
 from .identifiability import autocorrelation_time, identifiability, smoothed
 from .model import PmpTrial, Subject, moment_function, with_set_angles
-from .muscles import LegMuscles, scale_for_subject
+from .muscles import LegMuscles
 from .problem import estimate
 
 #: bumped when a change to the fit or the resampling changes results (invalidates stored results)
@@ -86,6 +86,8 @@ class FitTask:
         s = self.subject
         h.update(f"{s.mass_kg!r}|{s.shank_length_m!r}|{s.foot_length_m!r}|{s.arm_inertia_kgm2!r}|".encode())
         h.update(f"{s.shank_length_sd_m!r}|{s.set_angle_sd_rad!r}|{s.mass_sd_kg!r}|".encode())  # in the intervals
+        if s.thigh_length_m is not None:  # (a subject without a thigh measurement keeps its earlier keys)
+            h.update(f"thigh={s.thigh_length_m!r}|{s.thigh_length_sd_m!r}|".encode())
         if self.extension:  # (the muscle model alone keeps the keys it had before extensions were offered)
             h.update(f"extension={self.extension}|".encode())
         for t in self.trials:
@@ -120,7 +122,7 @@ def run_fit_task(task: FitTask) -> dict[str, Any]:
     from .verify import forward_dynamics
 
     started = time.perf_counter()
-    leg = LegMuscles(length_scale=scale_for_subject(task.subject.shank_length_m))
+    leg = task.subject.leg()
     name = task.extension
     diagnosis = None
     if name == DIAGNOSED or (name and task.replicate == 0):

@@ -206,9 +206,19 @@ def model_segment_lengths_m(name: str = "rajagopal2016_paths.json") -> dict[str,
     return {k: float(v) for k, v in segments.items()}
 
 
+@lru_cache(maxsize=4)
+def segment_fractions(name: str = "rajagopal2016_segment_fractions.json") -> dict[str, dict[str, float]]:
+    """Per muscle, how its path length follows each segment's scale ((ΔL/L)/δ for the segment's bodies scaled
+    by 1 + δ, the mean over seated poses; ``tools/fit_segment_fractions.py``): ``{"thigh": …, "shank": …,
+    "foot": …}``, summing to about 1."""
+    data = _data(name)
+    return {m: {seg: float(v["mean"]) for seg, v in row.items()} for m, row in data["muscles"].items()}
+
+
 def fit_errors() -> dict[str, dict[str, float]]:
     """The committed fit's errors against OpenSim (mm) per muscle."""
     return {m: dict(p.fit) for m, p in load_paths().items()}
 
 
-__all__ = ["MUSCLES", "JOINTS", "MusclePath", "load_paths", "fit_errors", "model_segment_lengths_m", "path_ranges_deg"]
+__all__ = ["MUSCLES", "JOINTS", "MusclePath", "load_paths", "fit_errors", "model_segment_lengths_m", "path_ranges_deg",
+           "segment_fractions"]

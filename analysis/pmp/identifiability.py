@@ -10,7 +10,9 @@ from typing import Any
 
 import numpy as np
 
+from .geometry import model_segment_lengths_m
 from .model import (
+    MEASUREMENT_SD,
     PmpTrial,
     Subject,
     eliminate_tendons,
@@ -56,6 +58,7 @@ class Identifiability:
     measurement_se_rel : each parameter's relative SE from the measured inputs (shank, set angles, mass)
     measurement_nuisances : the measured inputs propagated
     extension : the model extension fitted jointly, if any
+    thigh_would_determine : parameters a tape measure of the thigh would determine (when it was not measured)
     model_misfit : whether the residual's systematic part exceeds what the intervals allow for (the model lacks
         something these trials show; one of ``not_determined_because``)
     """
@@ -81,6 +84,9 @@ class Identifiability:
     measurement_nuisances: list[str]
     extension: str | None
     model_misfit: bool = False
+    #: parameters a tape measure of the thigh would determine (the thigh not measured: its muscles' intervals
+    #: carry adults' spread of thigh to shank proportions)
+    thigh_would_determine: list[str] = dataclasses.field(default_factory=list)
 
     def as_dict(self) -> dict[str, Any]:
         """The fields as a JSON-ready dict (the report's and the cohort store's form)."""
@@ -111,7 +117,7 @@ JACOBIAN_STRIDE = 4
 def _model_and_sensitivities(symbols: list[Any], model_u: Any, derived: list[Any], angle: np.ndarray,
                              velocity: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The model's torque ``model_u`` (N·m, of ``symbols`` q, v, p_rel, e_rel) at every sample, and the rows
-    ``derived`` = (its Jacobian in (p_rel, e_rel), then its values at the three measured-quantity steps, as
+    ``derived`` = (its Jacobian in (p_rel, e_rel), then its values at each measured-quantity step, as
     differences from it) at every :data:`JACOBIAN_STRIDE`-th sample, interpolated; every sample's own where a
     row is not finite (the equilibrium failed: those samples are counted by the caller)."""
     import casadi as ca
@@ -194,14 +200,16 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     # every path; a 5 mm tape error moved both determined slack lengths by 1.3 %, outside intervals of
     # ±0.4 % that took the shank as exact), each fixed joint's set angle, and the body mass (limb weight)
     conditions = sorted({set_angle_condition(t) for t in trials})
-    measured = ["shank_length_scale"] + [set_angle_label(c) for c in conditions] + ["mass_kg"]
+    # and the thigh's scale over the shank's (the thigh's muscles follow it: measured by tape, or unknown within
+    # adults' proportions; a thigh 8.5 % longer than the shank's scale moved rectus femoris' slack by −7 %)
+    measured = ["shank_length_scale"] + [set_angle_label(c) for c in conditions] + ["mass_kg", "thigh_over_shank"]
     # set angles the fit estimated (PmpResult.set_angle_offsets_rad) are nuisances fitted with their prior: the
     # model is evaluated at them and they are profiled out of the muscles' information with the prior's precision
     set_angles_fitted = bool(result.set_angle_offsets_rad)
     condition_of = [set_angle_condition(t) for t in trials]
     trials = with_set_angles(trials, result.set_angle_offsets_rad)
     prior_sd = np.array([subject.shank_length_sd_m / subject.shank_length_m]
-                        + [subject.set_angle_sd_rad] * len(conditions) + [subject.mass_sd_kg])
+                        + [subject.set_angle_sd_rad] * len(conditions) + [subject.mass_sd_kg, subject.thigh_over_shank_sd()])
 
     def model_u_of(t: PmpTrial, use_leg: LegMuscles, fixed: dict[str, float], mass_kg: float) -> Any:
         tt = PmpTrial(t.joint, fixed, t.time_s, t.angle_rad, t.velocity_rad_s, t.torque_nm, t.name)
@@ -216,6 +224,7 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
 
     step_scale, step_angle, step_mass = 1e-4, 1e-4, 1e-2
     scaled_leg = leg.rescaled(1.0 + step_scale)
+    thigh_leg = leg.rescaled(1.0, 1.0 + step_scale)
     rows, residual_parts, noise_parts = [], [], []
     undefined = 0
     for t, condition in zip(trials, condition_of, strict=True):
@@ -227,14 +236,16 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
         shifted = dict(t.fixed_rad)
         shifted[other] = t.fixed_rad.get(other, 0.0) + step_angle
         variants = [model_u_of(t, scaled_leg, t.fixed_rad, subject.mass_kg), model_u_of(t, leg, shifted, subject.mass_kg),
-                    model_u_of(t, leg, t.fixed_rad, subject.mass_kg + step_mass)]
+                    model_u_of(t, leg, t.fixed_rad, subject.mass_kg + step_mass),
+                    model_u_of(t, thigh_leg, t.fixed_rad, subject.mass_kg)]
         u_pred, sensitivities = _model_and_sensitivities([q, v, prel, erel], model_u,
                                                           [ca.jacobian(model_u, both), *variants], angle, velocity)
         cols = np.zeros((angle.size, len(measured)))
-        cols[:, 0] = sensitivities[:, -3] / step_scale
-        cols[:, 1 + conditions.index(condition)] = sensitivities[:, -2] / step_angle
-        cols[:, -1] = sensitivities[:, -1] / step_mass
-        rows.append(np.hstack([sensitivities[:, :-3], cols]))
+        cols[:, 0] = sensitivities[:, -4] / step_scale
+        cols[:, 1 + conditions.index(condition)] = sensitivities[:, -3] / step_angle
+        cols[:, -2] = sensitivities[:, -2] / step_mass
+        cols[:, -1] = sensitivities[:, -1] / step_scale
+        rows.append(np.hstack([sensitivities[:, :-4], cols]))
         residual = u_pred - t.torque_nm[::stride]
         # where the fitted model has no value (the calf tendons without an equilibrium, an overflow) the sample
         # is left out and counted; any such sample makes nothing determined (below)
@@ -264,7 +275,7 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
         # the set angles profiled out with their prior (joint covariance, first order): the muscles' information
         # is the Schur complement I_mm − I_ms (I_ss + 1/σ²)⁻¹ I_sm, the solution operator the one with them free
         j_set = j_meas[:, 1:1 + n_set]
-        j_meas, prior_sd = j_meas[:, [0, -1]], prior_sd[[0, -1]]
+        j_meas, prior_sd = j_meas[:, [0, -2, -1]], prior_sd[[0, -2, -1]]
         info_ss = j_set.T @ j_set / scale_c + np.eye(n_set) / subject.set_angle_sd_rad**2
         info_ms = j.T @ j_set / scale_c
         gain_s = np.linalg.solve(info_ss, info_ms.T)  # (n_set, k)
@@ -296,6 +307,12 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     se_total = np.sqrt(se**2 + measurement_var)
     half_width = 1.96 * se_total + bias
     determined = (half_width < 1.96 * rel_se_limit) & (free_part < 0.1)
+    # what a tape on the thigh would add: the parameters determined were the thigh's scale known to the tapes' SD
+    thigh_var = (sensitivity[:, -1] * prior_sd[-1]) ** 2
+    measured_sd = math.hypot(MEASUREMENT_SD["thigh_length_m"] / model_segment_lengths_m()["thigh_length_m"],
+                             subject.shank_length_sd_m / subject.shank_length_m)
+    with_thigh = (1.96 * np.sqrt(se**2 + measurement_var - thigh_var * (1.0 - (measured_sd / prior_sd[-1]) ** 2))
+                  + bias < 1.96 * rel_se_limit) & (free_part < 0.1)
     misfit_ratio = residual_rms / max(noise, 1e-12)
     # the residual's systematic part (beyond the white noise): the intervals' bias bound is built for a model
     # error up to model_error_nm RMS, so a residual whose systematic part stays within it is consistent with
@@ -355,16 +372,21 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
                            + measured_inputs_text(subject, set_angles_fitted),
             measurement_se_rel=dict(zip(names, np.sqrt(measurement_var).tolist())),
             measurement_nuisances=measured,
-            extension=extension.name if extension is not None else None, model_misfit=model_misfit)
+            extension=extension.name if extension is not None else None, model_misfit=model_misfit,
+            thigh_would_determine=[n for n, d, w in zip(names, determined, with_thigh)
+                                   if w and not d and not reasons and subject.thigh_length_m is None])
 
 
 def measured_inputs_text(subject: Subject, set_angles_fitted: bool) -> str:
     """How the intervals carry the measured inputs (the end of ``Identifiability.uncertainty``)."""
     sd = f"SD {math.degrees(subject.set_angle_sd_rad):.1f}°"
-    delta = [f"the shank length (SD {1e3 * subject.shank_length_sd_m:.1f} mm)", f"the mass (SD {subject.mass_sd_kg:g} kg)"]
+    thigh = (f"the thigh's scale over the shank's (SD {100 * subject.thigh_over_shank_sd():.1f} %, "
+             + ("from the thigh's tape measure)" if subject.thigh_length_m is not None else "the thigh not measured)"))
+    delta = [f"the shank length (SD {1e3 * subject.shank_length_sd_m:.1f} mm)", thigh,
+             f"the mass (SD {subject.mass_sd_kg:g} kg)"]
     fitted = f"; each set angle fitted with its prior ({sd}) and profiled out (joint covariance)" if set_angles_fitted else ""
     if not set_angles_fitted:
-        delta.insert(1, f"each set angle ({sd})")
+        delta.insert(2, f"each set angle ({sd})")
     return (f"{fitted}; {', '.join(delta[:-1])} and {delta[-1]} as measured inputs whose SDs are propagated to first "
             "order (delta method)")
 

@@ -41,7 +41,11 @@ class PmpTrial:
 #: how well a lab measures what the model is scaled and posed by, one standard deviation: a tape on the
 #: shank within ±5 mm, a goniometer or the chair's scale on a fixed joint within ±3°, a scale within ±0.5 kg,
 #: each bound taken as two SD (95 %)
-MEASUREMENT_SD = {"shank_length_m": 0.0025, "set_angle_rad": math.radians(1.5), "mass_kg": 0.25}
+MEASUREMENT_SD = {"shank_length_m": 0.0025, "thigh_length_m": 0.0025, "set_angle_rad": math.radians(1.5),
+                  "mass_kg": 0.25}
+#: one SD of the thigh's scale over the shank's when the thigh was not measured (an assumed 3 %: adults' thigh
+#: and shank are not in one proportion, and the leg is then scaled by the shank alone)
+THIGH_OVER_SHANK_SD_UNMEASURED = 0.03
 
 
 @dataclass
@@ -56,6 +60,23 @@ class Subject:
     shank_length_sd_m: float = MEASUREMENT_SD["shank_length_m"]
     set_angle_sd_rad: float = MEASUREMENT_SD["set_angle_rad"]
     mass_sd_kg: float = MEASUREMENT_SD["mass_kg"]
+    #: hip to knee joint centre (m), if measured: the thigh's muscles are then scaled by it
+    thigh_length_m: float | None = None
+    thigh_length_sd_m: float = MEASUREMENT_SD["thigh_length_m"]
+
+    def leg(self) -> LegMuscles:
+        """The eleven muscles scaled to this subject: by the shank, the thigh's muscles by the thigh if measured."""
+        from .muscles import scale_for_subject, thigh_over_shank_for_subject
+
+        return LegMuscles(length_scale=scale_for_subject(self.shank_length_m),
+                          thigh_over_shank=thigh_over_shank_for_subject(self.thigh_length_m, self.shank_length_m))
+
+    def thigh_over_shank_sd(self) -> float:
+        """One SD of the thigh's scale over the shank's: from the two tape measurements, or
+        :data:`THIGH_OVER_SHANK_SD_UNMEASURED` without the thigh's."""
+        if self.thigh_length_m is None:
+            return THIGH_OVER_SHANK_SD_UNMEASURED
+        return math.hypot(self.thigh_length_sd_m / self.thigh_length_m, self.shank_length_sd_m / self.shank_length_m)
 
     def inertia_kgm2(self, joint: str) -> float:
         m, ls, lf = self.mass_kg, self.shank_length_m, self.foot_length_m
@@ -189,7 +210,8 @@ def path_taylor(leg: LegMuscles, trial: PmpTrial, anchors_rad: np.ndarray) -> tu
     uses the tables themselves."""
     import casadi as ca
 
-    key = (trial.joint, tuple(sorted(trial.fixed_rad.items())), leg.length_scale, anchors_rad.tobytes())
+    key = (trial.joint, tuple(sorted(trial.fixed_rad.items())), leg.length_scale, leg.thigh_over_shank,
+           anchors_rad.tobytes())
     if key in leg.path_cache:  # the model-level diagnosis fits the same trials again and again
         return leg.path_cache[key]
     names = [m for m in MUSCLES if trial.joint in leg.paths[m].joints]

@@ -11,7 +11,11 @@ tests use as an independent check.
 Parameters per muscle (``MuscleParameters``): tendon slack length (m), passive fibre strain ε₀,
 tendon strain ε_T0. Subject scaling multiplies the generic lengths (path, optimal fibre length,
 tendon slack length) by the ratio of the subject's segment length to the generic one, as
-OpenSim's scaling does for muscles on one segment pair.
+OpenSim's scaling does for muscles on one segment pair. A thigh scaled unlike the shank
+(``thigh_over_shank`` ≠ 1) scales each muscle by its own factor, the shank's times
+1 + f_thigh·(thigh_over_shank − 1), f_thigh the fraction of its path length that follows the thigh's
+scale (:func:`analysis.pmp.geometry.segment_fractions`: OpenSim's ``Model.scale`` per segment, the mean
+over seated poses; the vasti 0.83–0.84, the hamstrings 0.89–0.99, the calf 0–0.04).
 """
 
 from __future__ import annotations
@@ -23,7 +27,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from .curves import passive_fiber_force, tendon_force
-from .geometry import MUSCLES, MusclePath, load_paths, model_segment_lengths_m
+from .geometry import MUSCLES, MusclePath, load_paths, model_segment_lengths_m, segment_fractions
 
 COMPLIANT = ("soleus", "gasmed", "gaslat")
 
@@ -44,28 +48,38 @@ class LegMuscles:
     paths: dict[str, MusclePath] = field(default_factory=load_paths)
     length_scale: float = 1.0
     params: dict[str, MuscleParameters] = field(default_factory=dict)
+    #: the thigh's scale over the shank's (1: the leg scaled by one factor, ``length_scale``)
+    thigh_over_shank: float = 1.0
     #: path Taylor coefficients already computed for this leg (model.path_taylor), by trial geometry and anchors
     path_cache: dict[tuple[Any, ...], Any] = field(default_factory=dict, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         for m in MUSCLES:
             p = self.paths[m]
-            self.params.setdefault(m, MuscleParameters(p.tendon_slack_length_m * self.length_scale,
+            self.params.setdefault(m, MuscleParameters(p.tendon_slack_length_m * self.muscle_scale(m),
                                                        p.passive_strain, p.tendon_strain))
 
-    def rescaled(self, factor: float) -> LegMuscles:
-        """The same subject's parameters on paths ``factor`` times as long (a shank measured that much longer):
-        path lengths, optimal fibre lengths and moment arms scale, the tendon parameters stay."""
-        return LegMuscles(paths=self.paths, length_scale=self.length_scale * factor, params=dict(self.params))
+    def muscle_scale(self, m: str) -> float:
+        """The factor on muscle ``m``'s generic path, optimal fibre and tendon slack lengths."""
+        if self.thigh_over_shank == 1.0:
+            return self.length_scale
+        return self.length_scale * (1.0 + segment_fractions()[m]["thigh"] * (self.thigh_over_shank - 1.0))
+
+    def rescaled(self, factor: float, thigh_factor: float = 1.0) -> LegMuscles:
+        """The same subject's parameters on paths ``factor`` times as long (a shank measured that much longer),
+        the thigh's relative scale times ``thigh_factor``: path lengths, optimal fibre lengths and moment arms
+        scale, the tendon parameters stay."""
+        return LegMuscles(paths=self.paths, length_scale=self.length_scale * factor, params=dict(self.params),
+                          thigh_over_shank=self.thigh_over_shank * thigh_factor)
 
     def optimal_fiber_length_m(self, m: str) -> float:
-        return self.paths[m].optimal_fiber_length_m * self.length_scale
+        return self.paths[m].optimal_fiber_length_m * self.muscle_scale(m)
 
     def path_length_m(self, m: str, **q: Any) -> Any:
-        return self.paths[m].length_m(**q) * self.length_scale
+        return self.paths[m].length_m(**q) * self.muscle_scale(m)
 
     def moment_arm_m(self, m: str, joint: str, **q: Any) -> Any:
-        return self.paths[m].moment_arm_m(joint, **q) * self.length_scale
+        return self.paths[m].moment_arm_m(joint, **q) * self.muscle_scale(m)
 
     def fiber_state(self, m: str, path_length_m: float) -> tuple[float, float, float]:
         """(fibre length m, pennation rad, tendon force N) at one path length (numpy; equilibrium for the calf)."""
@@ -107,6 +121,15 @@ class LegMuscles:
         """Passive moment of all muscles about ``joint`` toward positive angle (N·m)."""
         return float(sum(float(self.moment_arm_m(m, joint, **q)) * self.force_n(m, **q) for m in MUSCLES
                          if joint in self.paths[m].joints))
+
+
+def thigh_over_shank_for_subject(thigh_length_m: float | None, shank_length_m: float) -> float:
+    """The thigh's scale over the shank's for a subject (each measured over the generic model's, hip to knee
+    and knee to ankle joint centres); 1 when the thigh was not measured."""
+    if thigh_length_m is None:
+        return 1.0
+    generic = model_segment_lengths_m()
+    return (thigh_length_m / generic["thigh_length_m"]) / (shank_length_m / generic["shank_length_m"])
 
 
 def scale_for_subject(shank_length_m: float, generic_shank_length_m: float | None = None) -> float:

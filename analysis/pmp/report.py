@@ -17,7 +17,7 @@ from .estimator import MEASUREMENT_SD, PmpResult, PmpTrial, Subject, estimate, i
 from .geometry import path_ranges_deg
 from .identifiability import Identifiability
 from .model import moment_function, with_set_angles
-from .muscles import COMPLIANT, LegMuscles, scale_for_subject
+from .muscles import COMPLIANT, LegMuscles
 from .stiffness import FIGURE_QUANTITIES, achilles_stiffness_kn_per_m, representative_values
 from .verify import Verification, forward_dynamics
 
@@ -151,7 +151,7 @@ def trial_from_table(table: TrialTable) -> PmpTrial:
 
 
 def subject_from(data: dict[str, Any]) -> Subject:
-    """The subject's mass (kg), shank and foot length (m); each must be given and physiological.
+    """The subject's mass (kg), shank and foot length (m), each given and physiological; the thigh's (m) if given.
 
     :raises InputError: names the missing or out-of-range field and the allowed range.
     """
@@ -166,15 +166,25 @@ def subject_from(data: dict[str, Any]) -> Subject:
                 or not lo <= value <= hi:
             raise InputError(f"subject {key} = {value!r} is outside the allowed range {lo:g}..{hi:g}")
         values[key] = float(value)
+    # the thigh, if measured (it scales the thigh's muscles; without it they follow the shank, and the intervals
+    # carry adults' spread of thigh to shank proportions)
+    thigh = data.get("thigh_length_m") if isinstance(data, dict) else None
+    if thigh is not None:
+        lo, hi = SUBJECT_RANGES["thigh_length_m"]
+        if isinstance(thigh, bool) or not isinstance(thigh, (int, float)) or not math.isfinite(thigh) \
+                or not lo <= thigh <= hi:
+            raise InputError(f"subject thigh_length_m = {thigh!r} is outside the allowed range {lo:g}..{hi:g}")
     # how well each was measured (one SD), if the record says; else the defaults (MEASUREMENT_SD)
-    sd = {key: float(data[key]) for key in ("shank_length_sd_m", "set_angle_sd_deg", "mass_sd_kg")
+    sd = {key: float(data[key]) for key in ("shank_length_sd_m", "thigh_length_sd_m", "set_angle_sd_deg", "mass_sd_kg")
           if isinstance(data.get(key), (int, float)) and not isinstance(data.get(key), bool)
           and math.isfinite(data[key]) and data[key] > 0}
     return Subject(values["mass_kg"], values["shank_length_m"], values["foot_length_m"],
                    shank_length_sd_m=sd.get("shank_length_sd_m", MEASUREMENT_SD["shank_length_m"]),
                    set_angle_sd_rad=math.radians(sd["set_angle_sd_deg"]) if "set_angle_sd_deg" in sd
                    else MEASUREMENT_SD["set_angle_rad"],
-                   mass_sd_kg=sd.get("mass_sd_kg", MEASUREMENT_SD["mass_kg"]))
+                   mass_sd_kg=sd.get("mass_sd_kg", MEASUREMENT_SD["mass_kg"]),
+                   thigh_length_m=None if thigh is None else float(thigh),
+                   thigh_length_sd_m=sd.get("thigh_length_sd_m", MEASUREMENT_SD["thigh_length_m"]))
 
 
 def named_extension(name: str) -> Extension:
@@ -207,7 +217,7 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
             raise InputError("give an extension to fit or ask for the model-level diagnosis, not both")
         named_extension(extension)  # refused before any fit
     named = extension
-    leg = LegMuscles(length_scale=scale_for_subject(subject.shank_length_m))
+    leg = subject.leg()
 
     def iteration(i: int, objective: float) -> None:
         if progress is not None and i % 5 == 0:
@@ -307,13 +317,18 @@ def text(report: PmpReport, *, timings: bool = True) -> str:
                      "entered angle (a nuisance with the measurement's prior; the intervals include it)")
     for why in idf.not_determined_because:
         lines.append(f"NOTHING DETERMINED: {why}")
+    if idf.thigh_would_determine:
+        lines.append("the thigh was not measured, so its muscles' intervals carry adults' spread of thigh to shank "
+                     "proportions; its length (hip to knee joint centre, by tape: thigh_length_m) would also determine "
+                     + ", ".join(idf.thigh_would_determine))
     if idf.model_misfit and report.model_diagnosis is None and report.extended is None:
         from .model_diagnosis import EXTENSIONS
 
-        lines.append("  next: the muscle model lacks something these trials show; a model-level diagnosis (the "
-                     "command line's --diagnose-model, about a minute on two cores) fits each extension inside the "
-                     f"estimator ({', '.join(n.replace('_', ' ') for n in EXTENSIONS)}), names the one that predicts "
-                     "left-out data better and reports the parameters beside it")
+        lines.append("  next: the muscle model lacks something these trials show; diagnosing the model (the command "
+                     "line's --diagnose-model, about a minute on two cores; the GUI's set analysis does it once three "
+                     "conditions or repeats are in) fits each extension inside the estimator "
+                     f"({', '.join(n.replace('_', ' ') for n in EXTENSIONS)}), names the one that predicts left-out "
+                     "data better and reports the parameters beside it")
     for c in idf.free_combinations[:4]:
         comp = " ".join(f"{w:+.2f}·{k}" for k, w in c["components"].items())
         lines.append(f"  free combination: {comp}")

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from .estimator import PmpTrial, Subject, free_parameters
+from .geometry import model_segment_lengths_m
 from .muscles import COMPLIANT, LegMuscles, MuscleParameters
 
 KNEE_HIPS_DEG = (90.0, 55.0, 15.0)
@@ -30,7 +31,11 @@ def simulated_subject(seed: int, joints: tuple[str, ...] = ("knee",)) -> tuple[L
         eps = p.passive_strain if m in COMPLIANT else p.passive_strain * rng.uniform(0.9, 1.1)
         eps_t = p.tendon_strain * rng.uniform(0.85, 1.15) if m in COMPLIANT else p.tendon_strain
         truth.params[m] = MuscleParameters(ls, eps, eps_t)
+    # the lab measured the thigh as well as the shank (in the generic model's proportion: its muscles are scaled
+    # as the shank's, to within the tapes' SDs)
+    generic = model_segment_lengths_m()
     subject = Subject()
+    subject.thigh_length_m = generic["thigh_length_m"] * subject.shank_length_m / generic["shank_length_m"]
     trials = []
     if "knee" in joints:
         for hip in KNEE_HIPS_DEG:

@@ -20,7 +20,9 @@ from ..live.session import TrialOutcome, record_trial
 from ..store import SessionStore, Subject
 from .simulate import lab_config_for, simulated_devices, simulation_metadata
 
-SUBJECT = Subject("SIM01", "male", 1.78, 75.0, 0.92, 0.43, 0.40, 0.28, 0.26, 0.52, 0.37)
+#: the simulated body is Rajagopal 2016's unscaled (tools/make_demo_subject.py: hip to knee 0.408 m, knee to
+#: ankle 0.3965 m); the lab's tape reads its thigh 2 mm and its shank 3.5 mm long
+SUBJECT = Subject("SIM01", "male", 1.78, 75.0, 0.92, 0.41, 0.40, 0.28, 0.26, 0.52, 0.37)
 
 
 def plan(quick: bool) -> list[tuple[str, TrialProtocol]]:

@@ -66,6 +66,7 @@ def muscle_model_draw(index: int, seed: int = 0) -> StudyDraw:
 def draw_subject(index: int, seed: int = 0) -> tuple[Subject, dict[str, float]]:
     """Subject ``index`` of the study drawn from ``seed``: the store's subject and the true parameters."""
     from analysis.pmp.estimator import PmpTrial, free_parameters
+    from analysis.pmp.geometry import model_segment_lengths_m
     from analysis.pmp.muscles import COMPLIANT, LegMuscles, scale_for_subject
 
     rng = np.random.default_rng([seed, index, 20])
@@ -86,7 +87,10 @@ def draw_subject(index: int, seed: int = 0) -> tuple[Subject, dict[str, float]]:
         else:
             truth[name] = generic
     code = f"SIM{index + 1:02d}"
-    return Subject(code, "unknown", None, mass, None, None, shank, None, foot), truth
+    # the body is the generic leg scaled by one factor: the lab's tape reads its thigh in that proportion
+    segments = model_segment_lengths_m()
+    thigh = segments["thigh_length_m"] * shank / segments["shank_length_m"]
+    return Subject(code, "unknown", None, mass, None, thigh, shank, None, foot), truth
 
 
 def true_leg(subject: Subject, truth: dict[str, float]) -> Any:

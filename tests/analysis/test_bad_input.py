@@ -186,3 +186,17 @@ def test_a_trial_whose_angle_does_not_move_is_refused_by_the_diagnosis(kind: str
     with pytest.raises(InputError, match="does not move") as err:
         diagnose(trial)
     assert "\n" not in str(err.value)
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.none() | st.booleans() | st.floats() | st.integers(-5, 5) | st.text(max_size=4))
+def test_a_thigh_length_is_taken_when_physiological_and_refused_in_one_line_otherwise(thigh) -> None:
+    subject = {"mass_kg": 70.0, "shank_length_m": 0.40, "foot_length_m": 0.26, "thigh_length_m": thigh}
+    try:
+        s = subject_from(subject)
+    except InputError as err:
+        assert "thigh_length_m" in str(err) and "\n" not in str(err)
+        return
+    assert s.thigh_length_m == thigh and (thigh is None or 0.25 <= thigh <= 0.7)
+    # without it the thigh's muscles carry adults' spread of proportions; with it, the two tapes'
+    assert s.thigh_over_shank_sd() == (0.03 if thigh is None else pytest.approx(0.0088, abs=0.0015))

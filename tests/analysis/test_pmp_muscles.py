@@ -63,3 +63,25 @@ def test_calf_equilibrium_and_the_rigid_tendon_error_it_avoids() -> None:
     # scaling as OpenSim's scale tool: measured over the model's own knee–ankle distance (0.3965 m)
     assert scale_for_subject(0.3965) == pytest.approx(1.0, abs=2e-4)
     assert scale_for_subject(0.42) == pytest.approx(0.42 / 0.39647, rel=1e-4)
+
+
+def test_a_thigh_scaled_unlike_the_shank_lengthens_each_muscle_by_its_thigh_fraction() -> None:
+    """The vasti's paths follow the thigh's scale by 0.83–0.84 (OpenSim's Model.scale per segment), the
+    soleus' not at all; a leg in one proportion is the leg scaled by the shank alone."""
+    from analysis.pmp.geometry import model_segment_lengths_m, segment_fractions
+    from analysis.pmp.muscles import LegMuscles, thigh_over_shank_for_subject
+
+    fractions = segment_fractions()
+    assert 0.8 < fractions["vasint"]["thigh"] < 0.86 and fractions["soleus"]["thigh"] < 0.01
+    assert all(abs(sum(row.values()) - 1.0) < 0.02 for row in fractions.values())  # a uniform scale: 1
+    plain, longer = LegMuscles(length_scale=1.02), LegMuscles(length_scale=1.02, thigh_over_shank=1.05)
+    q = {"hip": 1.0, "knee": 0.8, "ankle": 0.0}
+    for m in ("vasint", "recfem", "soleus"):
+        expected = 1.0 + fractions[m]["thigh"] * 0.05
+        assert longer.path_length_m(m, **q) / plain.path_length_m(m, **q) == pytest.approx(expected, rel=1e-12)
+        assert longer.params[m].tendon_slack_length_m / plain.params[m].tendon_slack_length_m == pytest.approx(expected)
+    segments = model_segment_lengths_m()
+    assert thigh_over_shank_for_subject(None, 0.40) == 1.0
+    in_proportion = segments["thigh_length_m"] * 0.40 / segments["shank_length_m"]
+    assert thigh_over_shank_for_subject(in_proportion, 0.40) == pytest.approx(1.0)
+    assert thigh_over_shank_for_subject(1.05 * in_proportion, 0.40) == pytest.approx(1.05)
