@@ -223,7 +223,9 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
         return -(moment + gravity + (extension.moment(tt, q, v, ext_par, gravity) if extension is not None else 0))
 
     step_scale, step_angle, step_mass = 1e-4, 1e-4, 1e-2
-    scaled_leg = leg.rescaled(1.0 + step_scale)
+    # a shank measured long scales every path; a thigh measured too keeps its own length, so its muscles' relative
+    # scale falls by as much (unmeasured, the thigh follows the shank)
+    scaled_leg = leg.rescaled(1.0 + step_scale, 1.0 if subject.thigh_length_m is None else 1.0 / (1.0 + step_scale))
     thigh_leg = leg.rescaled(1.0, 1.0 + step_scale)
     rows, residual_parts, noise_parts = [], [], []
     undefined = 0
@@ -309,8 +311,7 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     determined = (half_width < 1.96 * rel_se_limit) & (free_part < 0.1)
     # what a tape on the thigh would add: the parameters determined were the thigh's scale known to the tapes' SD
     thigh_var = (sensitivity[:, -1] * prior_sd[-1]) ** 2
-    measured_sd = math.hypot(MEASUREMENT_SD["thigh_length_m"] / model_segment_lengths_m()["thigh_length_m"],
-                             subject.shank_length_sd_m / subject.shank_length_m)
+    measured_sd = MEASUREMENT_SD["thigh_length_m"] / model_segment_lengths_m()["thigh_length_m"]
     with_thigh = (1.96 * np.sqrt(se**2 + measurement_var - thigh_var * (1.0 - (measured_sd / prior_sd[-1]) ** 2))
                   + bias < 1.96 * rel_se_limit) & (free_part < 0.1)
     misfit_ratio = residual_rms / max(noise, 1e-12)

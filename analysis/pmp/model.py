@@ -72,11 +72,12 @@ class Subject:
                           thigh_over_shank=thigh_over_shank_for_subject(self.thigh_length_m, self.shank_length_m))
 
     def thigh_over_shank_sd(self) -> float:
-        """One SD of the thigh's scale over the shank's: from the two tape measurements, or
-        :data:`THIGH_OVER_SHANK_SD_UNMEASURED` without the thigh's."""
+        """One SD of the thigh's scale over the shank's beside the shank's own error: the thigh's tape (a shank
+        error moves the ratio too, and is counted with the shank), or :data:`THIGH_OVER_SHANK_SD_UNMEASURED`
+        without the thigh's."""
         if self.thigh_length_m is None:
             return THIGH_OVER_SHANK_SD_UNMEASURED
-        return math.hypot(self.thigh_length_sd_m / self.thigh_length_m, self.shank_length_sd_m / self.shank_length_m)
+        return self.thigh_length_sd_m / self.thigh_length_m
 
     def inertia_kgm2(self, joint: str) -> float:
         m, ls, lf = self.mass_kg, self.shank_length_m, self.foot_length_m
