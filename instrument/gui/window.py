@@ -131,8 +131,11 @@ class MainWindow(QtWidgets.QMainWindow):
         self.mass_spin = QtWidgets.QDoubleSpinBox(minimum=0.0, maximum=250.0, value=0.0, suffix=" kg")
         self.shank_spin = QtWidgets.QDoubleSpinBox(minimum=0.0, maximum=0.8, value=0.0, decimals=3, suffix=" m")
         self.foot_spin = QtWidgets.QDoubleSpinBox(minimum=0.0, maximum=0.5, value=0.0, decimals=3, suffix=" m")
-        for label, w in (("Mass", self.mass_spin), ("Shank length", self.shank_spin), ("Foot length", self.foot_spin)):
-            w.setSpecialValueText("required")  # 0 is "not entered", never a value
+        # the thigh (hip to knee joint centre) scales the thigh's muscles; without it they follow the shank
+        self.thigh_spin = QtWidgets.QDoubleSpinBox(minimum=0.0, maximum=0.8, value=0.0, decimals=3, suffix=" m")
+        for label, w in (("Mass", self.mass_spin), ("Shank length", self.shank_spin), ("Foot length", self.foot_spin),
+                         ("Thigh length", self.thigh_spin)):
+            w.setSpecialValueText("optional" if w is self.thigh_spin else "required")  # 0: not entered
             subj.addRow(label, w)
             w.valueChanged.connect(self._update_buttons)
             w.valueChanged.connect(lambda *_: self._draw_band() if hasattr(self, "band_lo") else None)
@@ -360,14 +363,20 @@ class MainWindow(QtWidgets.QMainWindow):
         for i in range(self.check_list.count()):
             self.check_list.item(i).setCheckState(QtCore.Qt.CheckState.Checked)
 
-    def set_subject(self, mass_kg: float, shank_length_m: float, foot_length_m: float) -> None:
+    def set_subject(self, mass_kg: float, shank_length_m: float, foot_length_m: float,
+                    thigh_length_m: float | None = None) -> None:
         self.mass_spin.setValue(mass_kg)
         self.shank_spin.setValue(shank_length_m)
         self.foot_spin.setValue(foot_length_m)
+        self.thigh_spin.setValue(thigh_length_m or 0.0)
 
     def _subject_entries(self) -> dict[str, float]:
-        return {"mass_kg": self.mass_spin.value(), "shank_length_m": self.shank_spin.value(),
-                "foot_length_m": self.foot_spin.value()}
+        """The entered anthropometrics (m, kg); the thigh only when entered (it is optional)."""
+        out = {"mass_kg": self.mass_spin.value(), "shank_length_m": self.shank_spin.value(),
+               "foot_length_m": self.foot_spin.value()}
+        if self.thigh_spin.value() > 0:
+            out["thigh_length_m"] = self.thigh_spin.value()
+        return out
 
     def subject_problems(self) -> list[str]:
         """What is missing or outside the physiological range in the subject's entries (empty: fine)."""
@@ -552,8 +561,7 @@ class MainWindow(QtWidgets.QMainWindow):
         if outcome is None:
             return
         protocol, store_root = runner.protocol, self.store.root
-        subject = {"mass_kg": self.mass_spin.value(), "shank_length_m": self.shank_spin.value(),
-                   "foot_length_m": self.foot_spin.value()}
+        subject = self._subject_entries()
         self.results.busy(f"analysing the accepted {protocol.name} trials of this session "
                           f"(trial {outcome.trial_id} is the newest) …")
 
