@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from .muscles import LegMuscles, scale_for_subject
+from .muscles import LegMuscles, scale_for_subject, thigh_over_shank_for_subject
 from .stiffness import representative_values
 
 
@@ -49,7 +49,9 @@ def physiological_values(summary: dict[str, Any], which: str = "estimate") -> di
     """Figures 3.15–3.17's quantities of one subject: slack length per shank length, tendon stiffness
     (kN/m) and muscle stiffness (N/m), from its estimates (``which="estimate"``) or the generic model's."""
     shank = float(summary["subject"]["shank_length_m"])
-    leg = LegMuscles(length_scale=scale_for_subject(shank))
+    thigh = summary["subject"].get("thigh_length_m")  # the muscles scaled as the subject's fit scaled them
+    leg = LegMuscles(length_scale=scale_for_subject(shank),
+                     thigh_over_shank=thigh_over_shank_for_subject(None if thigh is None else float(thigh), shank))
     return representative_values(leg, {n: float(r[which]) for n, r in summary["parameters"].items()}, shank)
 
 

@@ -17,7 +17,7 @@ import numpy as np
 from ..constants import GRAVITY_M_S2
 from .curves import active_fiber_force, passive_fiber_force, tendon_force
 from .geometry import MUSCLES
-from .muscles import COMPLIANT, LegMuscles
+from .muscles import COMPLIANT, LegMuscles, scale_for_subject, thigh_over_shank_for_subject
 
 G = GRAVITY_M_S2
 #: tendon slack length bounds, relative to the (scaled) generic value: subjects 20 % longer or
@@ -66,8 +66,6 @@ class Subject:
 
     def leg(self) -> LegMuscles:
         """The eleven muscles scaled to this subject: by the shank, the thigh's muscles by the thigh if measured."""
-        from .muscles import scale_for_subject, thigh_over_shank_for_subject
-
         return LegMuscles(length_scale=scale_for_subject(self.shank_length_m),
                           thigh_over_shank=thigh_over_shank_for_subject(self.thigh_length_m, self.shank_length_m))
 

@@ -279,7 +279,8 @@ def run_cohort(study: list[StudySubject], results: ResultSink, *, bootstrap: int
         summ["excluded_trials"] = member.excluded
         summ["inputs"] = member.inputs
         summ["subject"] = {"mass_kg": member.subject.mass_kg, "shank_length_m": member.subject.shank_length_m,
-                           "foot_length_m": member.subject.foot_length_m}
+                           "foot_length_m": member.subject.foot_length_m,
+                           "thigh_length_m": member.subject.thigh_length_m}
     return CohortRun(summaries, total, solved, read_back, failed, time.perf_counter() - started, task_seconds,
                      n_workers, scheduler or f"LocalCluster({n_workers} processes)", coverage(summaries), pids)
 
