@@ -16,7 +16,7 @@ with its extension ≤ 20 s, the model-level diagnosis ≤ 120 s on a 2-core mac
 Keys: ``cases`` (per case: ``plain_s``, ``extended_s``, ``diagnose_model_s``, ``named``, misfit ratios),
 ``plain_s_max``, ``extended_s_max``, ``diagnose_model_s_max``, ``extended_over_plain`` (median ratio, same run),
 ``cpu_count``, ``load_average_1min`` (the machine's at the start and the end: these are wall times, and another
-job on the two cores multiplies them: the run committed at 1b4504c read 2.6–2.8× the next stop's, on a quiet
+job on the two cores multiplies them: the run committed at 1b4504c read 2.2–2.8× the next stop's, on a quiet
 machine, of the same estimator).
 """
 

@@ -157,10 +157,10 @@ def run_fit_task(task: FitTask) -> dict[str, Any]:
         out["identifiability"] = {k: getattr(idf, k) for k in ("determined", "undetermined", "ci95", "misfit_ratio",
                                                        "residual_rms_nm", "noise_nm", "not_determined_because",
                                                        "at_bound", "model_error_bound_rel")}
+        # the extended model simulated at the set angles its fit found, as the single-subject report does
+        fd_trials = with_set_angles(task.trials, res.set_angle_offsets_rad) if extension is not None else task.trials
         fd = [forward_dynamics(t, task.subject, res.parameters, leg=leg, extension=extension,
-                               extension_parameters=res.extension_parameters)
-              for t in with_set_angles(task.trials, res.set_angle_offsets_rad)] if extension is not None else \
-            [forward_dynamics(t, task.subject, res.parameters, leg=leg) for t in task.trials]
+                               extension_parameters=res.extension_parameters) for t in fd_trials]
         out["forward_dynamics"] = [{"trial": v.name, "angle_rmse_deg": float(v.angle_rmse_deg),
                                     "torque_rmse_nm_per_kg": float(v.torque_rmse_nm_per_kg)} for v in fd]
         if extension is None:

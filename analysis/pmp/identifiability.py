@@ -12,7 +12,6 @@ import numpy as np
 
 from .geometry import model_segment_lengths_m
 from .model import (
-    MEASUREMENT_SD,
     PmpTrial,
     Subject,
     eliminate_tendons,
@@ -309,9 +308,10 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     se_total = np.sqrt(se**2 + measurement_var)
     half_width = 1.96 * se_total + bias
     determined = (half_width < 1.96 * rel_se_limit) & (free_part < 0.1)
-    # what a tape on the thigh would add: the parameters determined were the thigh's scale known to the tapes' SD
+    # what a tape on the thigh would add: the parameters determined were the thigh's scale known to its tape's SD
+    # (first order: the shank's nuisance would then also move the thigh's muscles less)
     thigh_var = (sensitivity[:, -1] * prior_sd[-1]) ** 2
-    measured_sd = MEASUREMENT_SD["thigh_length_m"] / model_segment_lengths_m()["thigh_length_m"]
+    measured_sd = subject.thigh_length_sd_m / model_segment_lengths_m()["thigh_length_m"]
     with_thigh = (1.96 * np.sqrt(se**2 + measurement_var - thigh_var * (1.0 - (measured_sd / prior_sd[-1]) ** 2))
                   + bias < 1.96 * rel_se_limit) & (free_part < 0.1)
     misfit_ratio = residual_rms / max(noise, 1e-12)

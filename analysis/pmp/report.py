@@ -155,35 +155,33 @@ def subject_from(data: dict[str, Any]) -> Subject:
 
     :raises InputError: names the missing or out-of-range field and the allowed range.
     """
-    values = {}
-    for key in ("mass_kg", "shank_length_m", "foot_length_m"):
+    values: dict[str, float | None] = {}
+    # the thigh is optional (it scales the thigh's muscles; without it they follow the shank, and the intervals
+    # carry adults' spread of thigh to shank proportions)
+    for key in ("mass_kg", "shank_length_m", "foot_length_m", "thigh_length_m"):
         lo, hi = SUBJECT_RANGES[key]
         value = data.get(key) if isinstance(data, dict) else None
         if value is None:
+            if key == "thigh_length_m":
+                values[key] = None
+                continue
             raise InputError(f"subject {key} is missing: enter it for the subject (store) or in --subject JSON "
                              f"({lo:g}..{hi:g})")
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) \
                 or not lo <= value <= hi:
             raise InputError(f"subject {key} = {value!r} is outside the allowed range {lo:g}..{hi:g}")
         values[key] = float(value)
-    # the thigh, if measured (it scales the thigh's muscles; without it they follow the shank, and the intervals
-    # carry adults' spread of thigh to shank proportions)
-    thigh = data.get("thigh_length_m") if isinstance(data, dict) else None
-    if thigh is not None:
-        lo, hi = SUBJECT_RANGES["thigh_length_m"]
-        if isinstance(thigh, bool) or not isinstance(thigh, (int, float)) or not math.isfinite(thigh) \
-                or not lo <= thigh <= hi:
-            raise InputError(f"subject thigh_length_m = {thigh!r} is outside the allowed range {lo:g}..{hi:g}")
     # how well each was measured (one SD), if the record says; else the defaults (MEASUREMENT_SD)
     sd = {key: float(data[key]) for key in ("shank_length_sd_m", "thigh_length_sd_m", "set_angle_sd_deg", "mass_sd_kg")
           if isinstance(data.get(key), (int, float)) and not isinstance(data.get(key), bool)
           and math.isfinite(data[key]) and data[key] > 0}
-    return Subject(values["mass_kg"], values["shank_length_m"], values["foot_length_m"],
+    mass, shank, foot = (float(values[k] or 0.0) for k in ("mass_kg", "shank_length_m", "foot_length_m"))
+    return Subject(mass, shank, foot,
                    shank_length_sd_m=sd.get("shank_length_sd_m", MEASUREMENT_SD["shank_length_m"]),
                    set_angle_sd_rad=math.radians(sd["set_angle_sd_deg"]) if "set_angle_sd_deg" in sd
                    else MEASUREMENT_SD["set_angle_rad"],
                    mass_sd_kg=sd.get("mass_sd_kg", MEASUREMENT_SD["mass_kg"]),
-                   thigh_length_m=None if thigh is None else float(thigh),
+                   thigh_length_m=values["thigh_length_m"],
                    thigh_length_sd_m=sd.get("thigh_length_sd_m", MEASUREMENT_SD["thigh_length_m"]))
 
 

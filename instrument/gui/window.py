@@ -397,7 +397,8 @@ class MainWindow(QtWidgets.QMainWindow):
             old = self.store.subject(self._subject_code).as_dict()
         except Exception:
             old = {"code": self._subject_code}
-        self.store.add_subject(Subject(**{**old, **self._subject_entries()}))
+        # a thigh cleared in the form clears the saved one (the form is what the operator sees)
+        self.store.add_subject(Subject(**{**old, "thigh_length_m": None, **self._subject_entries()}))
         self.subject_label.setText(f"{self._subject_code} saved")
         return True
 

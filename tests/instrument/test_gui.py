@@ -214,6 +214,8 @@ def test_subject_is_saved_validated_and_updated(window: MainWindow) -> None:
     assert not window.save_subject() and "thigh length m 0.75 outside 0.25..0.7" in window.subject_label.text()
     window.set_subject(81.5, 0.44, 0.27, 0.45)  # scales the thigh's muscles in the set analyses
     assert window.save_subject() and window.store.subject("GUI01").thigh_length_m == 0.45
+    window.set_subject(81.5, 0.44, 0.27)  # cleared again: the store follows
+    assert window.save_subject() and window.store.subject("GUI01").thigh_length_m is None
 
 
 def test_arm_entries_reach_the_protocol_and_its_checklist(window: MainWindow) -> None:
