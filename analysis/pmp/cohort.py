@@ -21,7 +21,7 @@ bootstrap estimates + the bound on the bias the muscle model's own error can cau
 ``identifiability(...).model_error_bound_rel``: resampling sees the noise, not the model's
 systematic error); the percentile interval of the bootstrap estimates is reported beside it. A parameter counts as
 *determined* when the subject's fit says so (:func:`analysis.pmp.estimator.identifiability`) and
-the bootstrap interval is within ±6.9 % (1.96 × 3.5 %).
+the bootstrap interval is within ±3.5 % (the dissertation's accuracy).
 
 A model extension (:attr:`FitTask.extension`): every fit of the subject (its own and each resample's) has the
 extension's terms beside the muscles' (:mod:`analysis.pmp.model_diagnosis`), and the resamples are drawn about
@@ -47,9 +47,9 @@ from .muscles import LegMuscles
 from .problem import estimate
 
 #: bumped when a change to the fit or the resampling changes results (invalidates stored results)
-METHOD_VERSION = "cohort-3"
-#: half-width limit of a determined parameter's bootstrap interval (relative): 1.96 × 3.5 %
-DETERMINED_HALF_WIDTH_REL = 1.96 * 0.035
+METHOD_VERSION = "cohort-4"
+#: half-width limit of a determined parameter's bootstrap interval (relative): the dissertation's 3.5 %
+DETERMINED_HALF_WIDTH_REL = 0.035
 #: shortest residual block of the sweep bootstrap (s)
 MIN_BLOCK_S = 1.0
 #: :attr:`FitTask.extension` asking for each subject's model-level diagnosis first (its named extension fitted)

@@ -7,9 +7,9 @@ but one condition and predicts the left-out condition's torque from its measured
 dynamics, I·q̈ − M_muscles − M_gravity − M_extension); every condition is left out once. An
 extension is named when it predicts every left-out fold better than the plain model and the
 geometric mean of its per-fold RMSE ratios is below ``max_heldout_ratio``; the one with the lowest
-wins. Each other candidate that would be named on its own is then fitted beside the winner, and
-the pair is named when it predicts every fold better than the winner alone by the same margin
-(compliant tendons *and* a tonic activation; end-range structures *and* an offset).
+wins. Every other candidate is then fitted beside the winner, and the pair is named when it predicts
+every fold better than the winner alone by the same margin (compliant tendons *and* a tonic activation;
+end-range structures *and* an offset); and so on, a third beside the pair, while one more does.
 When the plain model's held-out error is many times its in-sample error the folds do not
 predict each other (a left-out condition's muscles are extrapolated), and the report says so
 instead of naming anything: the diagnosis then needs repeats. Its parameters get jackknife intervals over the
@@ -38,6 +38,7 @@ Sign convention as the estimator's: moments toward positive angle, q̇ in rad/s.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -269,11 +270,9 @@ def combine(first: Extension, second: Extension) -> Extension:
 
 
 def get_extension(name: str) -> Extension:
-    """The extension of that name in :data:`EXTENSIONS`, or two of them joined by :data:`JOIN`."""
+    """The extension of that name in :data:`EXTENSIONS`, or several of them joined by :data:`JOIN`."""
     parts = name.split(JOIN)
-    if len(parts) == 2:
-        return combine(EXTENSIONS[parts[0]], EXTENSIONS[parts[1]])
-    return EXTENSIONS[name]
+    return functools.reduce(combine, [EXTENSIONS[p] for p in parts[1:]], EXTENSIONS[parts[0]])
 
 
 def protocol_to_separate(name: str) -> str:
@@ -601,7 +600,7 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
     max_heldout_ratio
         An extension is named when the geometric mean of its folds' held-out RMSE ratios to the plain model's is
         below this (and every fold is better); a second one beside it when the pair's ratios to the first alone
-        are (the pair is then the cause, named ``first+second``).
+        are (the pair is then the cause, named ``first+second``), a third beside the pair likewise, and so on.
     plain
         The plain model's fit on all trials, if already made.
     workers
@@ -695,22 +694,35 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
         # when it predicts every fold better than the best alone by the same margin (a subject is rarely wrong in
         # one way only). Not only those that pass alone: the first can mask the second (compliant knee tendons
         # beside a tonic activation predicted the folds 0.92–0.95 of the plain model's alone)
-        seconds = [f for f in findings if f is not best
-                   and (EXTENSIONS[best.name].angle is None or EXTENSIONS[f.name].angle is None)]
-        pairs = [combine(EXTENSIONS[best.name], EXTENSIONS[f.name]) for f in seconds]
-        if pairs:
-            # a pair is fitted whole only when it may be named (its folds better than the best alone's by the margin)
-            fit_folds(pool, [p.name for p in pairs], (dict(heldout[best.name]), max_heldout_ratio, True))
-    chosen = best
-    for pair in pairs:
-        findings.append(finding(pair))
-        ratio, every = ratio_to(pair.name, best.name)
-        if ratio < max_heldout_ratio and every and findings[-1].heldout_ratio < chosen.heldout_ratio:
-            chosen = findings[-1]
+        # Forward: so on while one more predicts every fold better than the model named so far by the margin (a
+        # subject with compliant tendons, a tone and end-range structures needs all three)
+        singles = list(findings)
+        chosen = best
+        steps = [best]
+        while True:
+            current = get_extension(chosen.name)
+            parts = chosen.name.split(JOIN)
+            nexts = [combine(current, EXTENSIONS[f.name]) for f in singles if f.name not in parts
+                     and (current.angle is None or EXTENSIONS[f.name].angle is None)]
+            if not nexts:
+                break
+            # fitted whole only when it may be named (its folds better than the model so far's by the margin)
+            fit_folds(pool, [e.name for e in nexts], (dict(heldout[chosen.name]), max_heldout_ratio, True))
+            better = chosen
+            for e in nexts:
+                findings.append(finding(e))
+                ratio, every = ratio_to(e.name, chosen.name)
+                if ratio < max_heldout_ratio and every and findings[-1].heldout_ratio < better.heldout_ratio:
+                    better = findings[-1]
+            if better is chosen:
+                break
+            chosen = better
+            steps.append(better)
     chosen.named = True
     close = [n for n in close if n not in chosen.name.split(JOIN)]  # a close rival named beside the best is no rival
-    step = (f"; with {chosen.name.split(JOIN)[1]} beside it {best.heldout_rmse_nm:.3f} → {chosen.heldout_rmse_nm:.3f} "
-            f"N·m" if chosen is not best else "")
+    step = "".join(f"; with {after.name.split(JOIN)[-1]} beside {'it' if i == 0 else 'them'} "
+                   f"{before.heldout_rmse_nm:.3f} → {after.heldout_rmse_nm:.3f} N·m"
+                   for i, (before, after) in enumerate(zip(steps, steps[1:])))
     message = (f"{chosen.name} ({get_extension(chosen.name).description}): held-out RMSE {base:.3f} → "
                f"{best.heldout_rmse_nm:.3f} N·m with {best.name} (ratio {best.heldout_ratio:.2f}){step}"
                + (f"; {', '.join(close)} predicts nearly as well as {best.name} (these trials do not separate them: "

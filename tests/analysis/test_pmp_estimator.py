@@ -63,20 +63,23 @@ def test_forward_dynamics_of_the_true_model_reproduces_the_trial() -> None:
 def test_instrument_analyze_pmp_on_trial_csvs(tmp_path, capsys) -> None:
     import json
 
+    from analysis.pmp.geometry import model_segment_lengths_m
     from analysis.trial_csv import TrialTable, write_trial_csv
     from instrument.cli import main
 
     truth, trials, subject = simulated_subject(21)
+    thigh_m = model_segment_lengths_m()["thigh_length_m"]
     files = []
     for t in trials:
         table = TrialTable({"time_s": t.time_s, "angle_deg": np.rad2deg(t.angle_rad), "torque_Nm": t.torque_nm,
                             "velocity_deg_s": np.rad2deg(t.velocity_rad_s)},
                            {"kind": "knee", "hip_flexion_deg": float(np.rad2deg(t.fixed_rad["hip"])),
                             "ankle_dorsiflexion_deg": 0.0,
-                            # the generic model's own shank: no scaling, as the generator; measured exactly (the
-                            # record's uncertainties, read from the sidecar, are the generator's: none)
+                            # the generic model's own shank and thigh: no scaling, as the generator; measured exactly
+                            # (the record's uncertainties, read from the sidecar, are the generator's: none)
                             "subject": {"mass_kg": 75.0, "shank_length_m": 0.3965, "foot_length_m": 0.26,
-                                        "shank_length_sd_m": 1e-9, "set_angle_sd_deg": 1e-9, "mass_sd_kg": 1e-9}})
+                                        "thigh_length_m": thigh_m, "shank_length_sd_m": 1e-9,
+                                        "thigh_length_sd_m": 1e-9, "set_angle_sd_deg": 1e-9, "mass_sd_kg": 1e-9}})
         files.append(tmp_path / f"{t.name}.csv")
         write_trial_csv(files[-1], table)
     assert main(["analyze", "pmp", *map(str, files), "--intervals", "16", "--out", str(tmp_path / "r"), "--json"]) == 0
