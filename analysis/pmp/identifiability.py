@@ -372,7 +372,9 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
             systematic_residual_nm=systematic,
             effective_samples=n_eff, samples=n_samples, not_determined_because=reasons,
             uncertainty="least-squares covariance with the residual's variance, inflated by n/n_eff "
-                           "(integrated autocorrelation time of the residual)"
+                           "(integrated autocorrelation time of the residual), plus the largest bias a model error of "
+                           f"{model_error_rms:.3g} N·m RMS can cause (the residual's systematic part, at least the "
+                           f"physics' own {MODEL_PHYSICS_ERROR_NM:g} N·m)"
                            + (f"; the {extension.name} parameters fitted jointly as nuisances (profiled out)"
                               if extension is not None else "")
                            + measured_inputs_text(subject, set_angles_fitted),

@@ -180,3 +180,34 @@ def test_no_extension_is_named_on_an_opensim_subject_without_one() -> None:
     trials, subject, leg = _opensim_subject(32, None)
     d = diagnose_model(trials, subject, leg=leg, intervals=12, candidates=["end_range_structures", "torque_offset"])
     assert d.cause == "none", d.text()
+
+
+def test_the_diagnosis_goes_on_past_a_pair_while_one_more_predicts_every_fold_better(monkeypatch) -> None:
+    """Forward selection on held-out errors (the fits stubbed: each model's error per fold is given): a tonic
+    activation alone 0.6 of the plain model's, end-range structures beside it 0.4, compliant knee tendons beside
+    those two 0.3 (below 0.9 of the pair's on every fold) — all three are named, in the order they were added;
+    a fourth that predicts no better than the three is not."""
+    import analysis.pmp.model_diagnosis as md
+
+    truth, trials, subject = simulated_subject(11, ("knee",))
+    monkeypatch.setattr(md, "predict_torque_nm", lambda fit, t, *a, **k: (np.arange(t.torque_nm.size), t.torque_nm + 1.0))
+    errors = {frozenset(): 1.0, frozenset({"tonic_activation"}): 0.6, frozenset({"end_range_structures"}): 0.7,
+              frozenset({"knee_tendon_compliance"}): 0.85,
+              frozenset({"tonic_activation", "end_range_structures"}): 0.4,
+              frozenset({"tonic_activation", "end_range_structures", "knee_tendon_compliance"}): 0.3}
+
+    def error(key: str | None) -> float:
+        parts = frozenset(key.split(md.JOIN)) if key else frozenset()
+        return errors.get(parts, 0.95 * min([v for k, v in errors.items() if k < parts] or [1.0]))  # a useless addition
+
+    def fits(self: object, jobs: list) -> list:
+        return [([(error(key), {p: 0.0 for p in md.get_extension(key).parameters} if key else {}) for _ in folds], None)
+                for key, folds, _rule in jobs]
+
+    monkeypatch.setattr(md._FitPool, "fits", fits)
+    candidates = ["tonic_activation", "end_range_structures", "knee_tendon_compliance", "torque_offset"]
+    found = diagnose_model(trials, subject, candidates=candidates, plain=estimate(trials[:1], subject, intervals=6),
+                           workers=1)
+    assert found.cause == "tonic_activation+end_range_structures+knee_tendon_compliance", found.text()
+    assert "with end_range_structures beside it" in found.message and "with knee_tendon_compliance beside them" in found.message
+    assert all(f.name.count(md.JOIN) <= 3 for f in found.candidates)
