@@ -690,12 +690,11 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
             return ModelDiagnosis("none", base, heldout["none"], findings, message, [f.label for f in folds])
         best = min(passing, key=lambda f: f.heldout_ratio)
         close = [f.name for f in passing if f is not best and f.heldout_ratio <= best.heldout_ratio * 1.05]
-        # a second mismatch beside the first: every other candidate is added to the best one, and the pair is named
-        # when it predicts every fold better than the best alone by the same margin (a subject is rarely wrong in
-        # one way only). Not only those that pass alone: the first can mask the second (compliant knee tendons
-        # beside a tonic activation predicted the folds 0.92–0.95 of the plain model's alone)
-        # Forward: so on while one more predicts every fold better than the model named so far by the margin (a
-        # subject with compliant tendons, a tone and end-range structures needs all three)
+        # forward selection: every other candidate is added to the model named so far, and the one that predicts every
+        # fold better than that model by the same margin is added, while one does (a subject is rarely wrong in one
+        # way only: compliant tendons, a tone and end-range structures need all three). Not only those that pass
+        # alone: the first can mask the second (compliant knee tendons beside a tonic activation predicted the folds
+        # 0.92–0.95 of the plain model's alone)
         singles = list(findings)
         chosen = best
         steps = [best]

@@ -217,11 +217,12 @@ def test_the_model_error_bound_is_sized_by_the_systematic_residual_and_determine
     the residual's systematic part grows and the bound on the model error's bias is made with it (the
     uncertainty says which RMS, at least the physics' own error); every determined parameter's 95 % interval is
     within ±3.5 %."""
+    from analysis.pmp.geometry import model_segment_lengths_m
     from analysis.pmp.identifiability import MODEL_PHYSICS_ERROR_NM
 
     truth, trials, subject = simulated_subject(12)
     subject = dataclasses.replace(subject, shank_length_sd_m=0.0, set_angle_sd_rad=0.0, mass_sd_kg=0.0,
-                                  thigh_length_m=0.40805, thigh_length_sd_m=1e-9)
+                                  thigh_length_m=model_segment_lengths_m()["thigh_length_m"], thigh_length_sd_m=1e-9)
     fit = estimate(trials, subject, intervals=16)
     bent = []
     for t in trials:
