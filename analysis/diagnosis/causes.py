@@ -45,6 +45,11 @@ FRICTION_LAWS: dict[str, Callable[[np.ndarray], np.ndarray]] = {
     "algebraic": lambda v: v / np.sqrt(1.0 + v * v),
     "arctan": lambda v: (2.0 / np.pi) * np.arctan(0.5 * np.pi * v),
 }
+#: the presliding displacements (rad) of a friction whose torque follows the *path* rather than the speed
+#: (Dahl 1968; the bristle state of LuGre, Canudas de Wit et al. 1995): after each reversal it turns over
+#: an e-folding angle and then holds its level, at rest too, where a law in speed falls to zero. From a
+#: sensor's resolution (0.03°) to a compliant strap's give (3°)
+DAHL_WIDTHS_RAD = np.deg2rad(np.geomspace(0.03, 3.0, 6))
 #: rates (1/rad) of the baseline's stiffening exponentials at the (low, high) end of each joint's range.
 #: Passive joint moments are sums of such terms, steep at one end only: knee extension (Riener &
 #: Edrich 1999: 0.150 /° = 8.6 /rad; the hamstrings in this project's muscle model) and ankle
@@ -358,27 +363,66 @@ def burst_bounds(prep: Prepared, nl: tuple[float, ...]) -> tuple[float, float]:
     return start, dur
 
 
+def dahl_state(prep: Prepared, width_rad: float) -> np.ndarray:
+    """The unit friction state of Dahl's model along the trial's path, z ∈ [−1, 1]: w·dz/d|θ| = sgn(θ̇) − z,
+    i.e. after each reversal z = s + (z₀ − s)·exp(−Δ/w), Δ the angle travelled since (rad, from the smoothed
+    velocity, so sensor noise at rest does not move it), s the direction; at rest z holds. Starts at 0."""
+    step = prep.omega * np.diff(prep.t, prepend=prep.t[0])
+    direction = np.sign(step)
+    moving = np.flatnonzero(direction)
+    out = np.zeros(prep.t.size)
+    if moving.size == 0:
+        return out
+    # a still sample continues the last direction (its step is zero, so the state holds)
+    filled = direction[moving][np.searchsorted(moving, np.arange(prep.t.size), side="right").clip(1) - 1]
+    travelled = np.cumsum(np.abs(step))
+    starts = np.concatenate([[0], np.flatnonzero(np.diff(filled)) + 1, [prep.t.size]])
+    z0, d0 = 0.0, 0.0
+    for a, b in zip(starts[:-1], starts[1:]):
+        s = filled[a]
+        out[a:b] = s + (z0 - s) * np.exp(-(travelled[a:b] - d0) / width_rad)
+        z0, d0 = float(out[b - 1]), float(travelled[b - 1])
+    return out
+
+
+def _friction_unit(prep: Prepared, law: str, width: float) -> np.ndarray:
+    """The unit friction column of ``law``: a smooth Coulomb law of the speed (width in rad/s) or Dahl's law of
+    the path (``"dahl"``, width the presliding angle in rad)."""
+    if law == "dahl":
+        return dahl_state(prep, width)
+    return FRICTION_LAWS[law](prep.omega / width)
+
+
 def friction_cause(law: str, stribeck: bool = False) -> Cause:
-    """The Coulomb friction cause with the smooth law ``law`` of :data:`FRICTION_LAWS`; with ``stribeck``,
-    Stribeck's law (Armstrong-Hélouvry 1991): a static excess over the Coulomb level decaying with speed,
-    s(v)·(F_C + F_S·exp(−|v|/v_S)), F_S ≥ 0 on the grid of :data:`STRIBECK_SPEEDS_RAD_S`. ``friction_Nm`` is
-    the Coulomb (kinetic) level either way."""
-    shape = FRICTION_LAWS[law]
+    """The Coulomb friction cause with the smooth law ``law`` of :data:`FRICTION_LAWS` or Dahl's law of the path
+    (``"dahl"``); with ``stribeck``, Stribeck's law (Armstrong-Hélouvry 1991): a static excess over the Coulomb
+    level decaying with speed, u·(F_C + F_S·exp(−|v|/v_S)), F_S ≥ 0 on the grid of :data:`STRIBECK_SPEEDS_RAD_S`
+    (u the unit law; with Dahl's, a friction held at rest holds its static level, as LuGre's does).
+    ``friction_Nm`` is the Coulomb (kinetic) level either way."""
+    path = law == "dahl"
+    widths = DAHL_WIDTHS_RAD if path else FRICTION_WIDTHS_RAD_S
+
+    def width_report(nl: tuple[float, ...]) -> dict[str, float]:
+        return {"presliding_deg": float(np.rad2deg(nl[0]))} if path else \
+            {"friction_width_deg_s": float(np.rad2deg(nl[0]))}
+
     if not stribeck:
-        return Cause("coulomb_friction", "constant torque opposing motion (hysteresis of constant width)",
-                     ("afo", "knee", "ankle"), lambda p, nl: _plain(p, shape(p.omega / nl[0])),
-                     lambda c, nl: {"friction_Nm": float(c[0]), "friction_width_deg_s": float(np.rad2deg(nl[0]))},
-                     "friction_Nm", lambda p: [FRICTION_WIDTHS_RAD_S], signs=(1,), hysteretic=True)
+        return Cause("coulomb_friction", "torque opposing motion (hysteresis of constant width)"
+                     + (", turning over an angle after each reversal (Dahl)" if path else ""),
+                     ("afo", "knee", "ankle"), lambda p, nl: _plain(p, _friction_unit(p, law, nl[0])),
+                     lambda c, nl: {"friction_Nm": float(c[0]), **width_report(nl)},
+                     "friction_Nm", lambda p: [widths], signs=(1,), hysteretic=True)
 
     def columns(p: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        s = shape(p.omega / nl[0])
+        s = _friction_unit(p, law, nl[0])
         return _plain(p, np.column_stack([s, s * np.exp(-np.abs(p.omega) / nl[1])]))
 
-    return Cause("coulomb_friction", "torque opposing motion, larger when starting than when sliding (Stribeck)",
+    return Cause("coulomb_friction", "torque opposing motion, larger when starting than when sliding (Stribeck)"
+                 + (", turning over an angle after each reversal (Dahl)" if path else ""),
                  ("afo", "knee", "ankle"), columns,
-                 lambda c, nl: {"friction_Nm": float(c[0]), "friction_width_deg_s": float(np.rad2deg(nl[0])),
+                 lambda c, nl: {"friction_Nm": float(c[0]), **width_report(nl),
                                 "static_excess_Nm": float(c[1]), "stribeck_speed_deg_s": float(np.rad2deg(nl[1]))},
-                 "friction_Nm", lambda p: [FRICTION_WIDTHS_RAD_S, STRIBECK_SPEEDS_RAD_S], signs=(1, 1),
+                 "friction_Nm", lambda p: [widths, STRIBECK_SPEEDS_RAD_S], signs=(1, 1),
                  hysteretic=True, n_columns=2, n_nonlinear=2)
 
 
@@ -427,9 +471,9 @@ SHAPE_VARIANTS: dict[str, dict[str, Callable[[], Cause]]] = {
 #: laws of one cause with different numbers of parameters: the search uses the one with the lowest BIC on the
 #: trial (evidence.likeliest_law); the first is the simplest
 LAW_VARIANTS: dict[str, dict[str, Callable[[], Cause]]] = {
-    "coulomb_friction": {**{law: functools.partial(friction_cause, law) for law in FRICTION_LAWS},
+    "coulomb_friction": {**{law: functools.partial(friction_cause, law) for law in (*FRICTION_LAWS, "dahl")},
                          **{f"{law} with Stribeck": functools.partial(friction_cause, law, True)
-                            for law in FRICTION_LAWS}},
+                            for law in (*FRICTION_LAWS, "dahl")}},
     "sensor_drift": {"linear": functools.partial(drift_cause, "linear"),
                      "smooth": functools.partial(drift_cause, "smooth")},
 }

@@ -205,7 +205,7 @@ def systematic_regions(prep: Prepared, residual: np.ndarray, n_eff: float, bins:
     return out
 
 
-def _blocks(n: int, folds: int) -> list[np.ndarray]:
+def time_blocks(n: int, folds: int) -> list[np.ndarray]:
     edges = np.linspace(0, n, folds + 1).astype(int)
     return [np.arange(edges[i], edges[i + 1]) for i in range(folds)]
 
@@ -216,7 +216,7 @@ def heldout_residuals(prep: Prepared, cause: Cause, folds: int = 5, nonlinear: t
     blocks (``nonlinear`` given: those parameters are held, only the linear coefficients are refitted); NaN
     where the model has no prediction."""
     out = np.full(prep.t.size, np.nan)
-    for block in _blocks(prep.t.size, folds):
+    for block in time_blocks(prep.t.size, folds):
         train = np.ones(prep.t.size, dtype=bool)
         train[block] = False
         fit = fit_cause(prep, cause, train, refine=False, start=nonlinear)

@@ -225,3 +225,64 @@ def test_a_wandering_drift_is_named_alone() -> None:
     named = {case: named_causes(diagnose(_trial(generate_c(case[0], ("sensor_drift",), case[1]))))
              for case in cases}
     assert sum(n == {"sensor_drift"} for n in named.values()) >= 4, named
+
+
+def test_dahl_state_turns_over_its_angle_after_each_reversal_and_holds_at_rest() -> None:
+    """Dahl's law of the path: after a reversal the unit state approaches the new direction as
+    1 − exp(−travel/w) (exactly, from its value at the reversal) and does not move while the joint is still,
+    where a law of the speed falls to zero."""
+    from analysis.diagnosis.causes import Prepared, dahl_state
+    from analysis.diagnosis.data import DiagnosisTrial
+
+    t = np.arange(0.0, 12.0, 0.01)
+    speed = np.deg2rad(10.0)
+    omega = np.where(t < 4.0, speed, np.where(t < 6.0, 0.0, -speed))  # out, hold, back
+    angle = np.concatenate([[0.0], np.cumsum(omega[1:] * np.diff(t))])
+    trial = DiagnosisTrial("knee", t, angle, np.zeros_like(t), {"hip_flexion_deg": 90.0},
+                           {"mass_kg": 75.0, "shank_length_m": 0.4, "foot_length_m": 0.26}, "unit", 0.0)
+    prep = Prepared.of(trial)
+    prep.omega = omega  # the exact speed, not its Savitzky–Golay estimate
+    width = np.deg2rad(0.5)
+    z = dahl_state(prep, width)
+    out, hold, back = t < 4.0, (t >= 4.0) & (t < 6.0), t >= 6.0
+    travel_out = np.cumsum(np.abs(omega * np.diff(t, prepend=t[0])))
+    np.testing.assert_allclose(z[out], 1.0 - np.exp(-travel_out[out] / width), atol=1e-12)
+    assert np.all(z[hold] == z[out][-1]) and z[out][-1] > 0.999
+    travel_back = travel_out[back] - travel_out[hold][-1]
+    np.testing.assert_allclose(z[back], -1.0 + (z[hold][-1] + 1.0) * np.exp(-travel_back / width), atol=1e-12)
+    assert z[back][-1] < -0.999
+
+
+def test_lugre_friction_on_a_joint_is_named_friction_not_damping() -> None:
+    """LuGre friction (bristle state, Stribeck curve; the fourth generator family) on knee and ankle sweeps
+    whose speed overshoots at each turnaround: with laws of the speed only it was named damping (10 of 16 in
+    that family's run; 1 of 12 on development seeds 600000–600005); with Dahl's law of the path among the
+    friction laws, 12 of 12 there. Fresh seeds; at least 5 of 6 named alone, magnitudes within 15 %."""
+    from benchmarks.diagnosis_family_b import _trial
+    from benchmarks.family_d_truth import generate_d
+
+    named, errors = [], []
+    for kind, seed in itertools.product(("knee", "ankle"), (640000, 640001, 640002)):
+        g = generate_d(kind, ("coulomb_friction",), seed)
+        d = diagnose(_trial(g))
+        named.append(named_causes(d))
+        if named[-1] == {"coulomb_friction"}:
+            errors.append(abs(d.parameters["friction_Nm"] / g.effects["coulomb_friction"] - 1.0))
+    assert sum(n == {"coulomb_friction"} for n in named) >= 5, named
+    assert max(errors) < 0.15, errors
+
+
+@pytest.mark.timeout(600)
+def test_a_settling_or_wandering_drift_is_judged_where_it_interpolates() -> None:
+    """Thermal settling and low-passed random-walk drift (the fourth generator family) on knee and ankle sweeps:
+    a drift is a function of time, and a left-out first or last block asked its cubic to extrapolate (a drift
+    that halved the RMSE read 1.26× worse held out). Judged on the blocks it interpolates: 6 of 8 on these fresh
+    seeds (4 of 8 before); the clean trials of the same seeds still name nothing (at most one of 8)."""
+    from benchmarks.diagnosis_family_b import _trial
+    from benchmarks.family_d_truth import generate_d
+
+    cases = list(itertools.product(("knee", "ankle"), range(650000, 650004)))
+    drift = [named_causes(diagnose(_trial(generate_d(k, ("sensor_drift",), s)))) for k, s in cases]
+    clean = [named_causes(diagnose(_trial(generate_d(k, (), s)))) for k, s in cases]
+    assert sum(n == {"sensor_drift"} for n in drift) >= 6, drift
+    assert sum(bool(n) for n in clean) <= 1, clean
