@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -50,6 +51,9 @@ FRICTION_LAWS: dict[str, Callable[[np.ndarray], np.ndarray]] = {
 #: an e-folding angle and then holds its level, at rest too, where a law in speed falls to zero. From a
 #: sensor's resolution (0.03°) to a compliant strap's give (3°)
 DAHL_WIDTHS_RAD = np.deg2rad(np.geomspace(0.03, 3.0, 6))
+#: the relaxation times (s) of a viscoelastic (Maxwell-element) damping: soft tissue and an orthosis' plastic relax
+#: over tens of milliseconds to about a second; below the shortest the law is plain viscous damping
+RELAXATION_TIMES_S = np.geomspace(0.02, 1.0, 7)
 #: rates (1/rad) of the baseline's stiffening exponentials at the (low, high) end of each joint's range.
 #: Passive joint moments are sums of such terms, steep at one end only: knee extension (Riener &
 #: Edrich 1999: 0.150 /° = 8.6 /rad; the hamstrings in this project's muscle model) and ankle
@@ -426,6 +430,34 @@ def friction_cause(law: str, stribeck: bool = False) -> Cause:
                  hysteretic=True, n_columns=2, n_nonlinear=2)
 
 
+def relaxed_velocity(prep: Prepared, relaxation_s: float) -> np.ndarray:
+    """The angular velocity (rad/s) through a first-order lag of ``relaxation_s``: a Maxwell element (spring k in
+    series with a dashpot k·τ) resists with k·τ times it, viscous damping of k·τ at low speed and less at the
+    trial's faster changes (the standard linear solid of soft tissue and plastics). The lag is run at the
+    trial's median sampling interval (a missing row shifts it by one interval)."""
+    from scipy.signal import lfilter
+
+    dt = float(np.median(np.diff(prep.t)))
+    a = math.exp(-dt / relaxation_s)
+    return np.asarray(lfilter([1.0 - a], [1.0, -a], prep.omega, zi=[a * prep.omega[0]])[0])
+
+
+def damping_cause(law: str) -> Cause:
+    """The damping cause: ``"viscous"`` (torque b·θ̇) or ``"viscous with relaxation"`` (a Maxwell element: b times
+    :func:`relaxed_velocity`, its relaxation time on the grid of :data:`RELAXATION_TIMES_S`). ``damping_Nm_s_per_rad``
+    is b, the damping at low speed, either way."""
+    if law == "viscous":
+        return Cause("viscous_damping", "torque proportional to angular velocity (hysteresis growing with speed)",
+                     ("afo", "knee", "ankle"), lambda p, nl: _plain(p, p.omega),
+                     lambda c, nl: {"damping_Nm_s_per_rad": float(c[0])}, "damping_Nm_s_per_rad", signs=(1,),
+                     hysteretic=True)
+    return Cause("viscous_damping", "torque growing with angular velocity and relaxing over a time (viscoelastic: a "
+                 "Maxwell element)", ("afo", "knee", "ankle"),
+                 lambda p, nl: _plain(p, relaxed_velocity(p, nl[0])),
+                 lambda c, nl: {"damping_Nm_s_per_rad": float(c[0]), "relaxation_s": float(nl[0])},
+                 "damping_Nm_s_per_rad", lambda p: [RELAXATION_TIMES_S], signs=(1,), hysteretic=True, n_nonlinear=1)
+
+
 def _time_legendre(p: Prepared, degree: int) -> np.ndarray:
     """Legendre polynomials P1..P``degree`` of the trial's time mapped to [−1, 1] (orthogonal on even sampling:
     the first is the linear trend whatever the others take)."""
@@ -474,6 +506,8 @@ LAW_VARIANTS: dict[str, dict[str, Callable[[], Cause]]] = {
     "coulomb_friction": {**{law: functools.partial(friction_cause, law) for law in (*FRICTION_LAWS, "dahl")},
                          **{f"{law} with Stribeck": functools.partial(friction_cause, law, True)
                             for law in (*FRICTION_LAWS, "dahl")}},
+    "viscous_damping": {"viscous": functools.partial(damping_cause, "viscous"),
+                        "viscous with relaxation": functools.partial(damping_cause, "viscous with relaxation")},
     "sensor_drift": {"linear": functools.partial(drift_cause, "linear"),
                      "smooth": functools.partial(drift_cause, "smooth")},
 }
@@ -483,9 +517,7 @@ CAUSES: dict[str, Cause] = {c.name: c for c in [
     Cause("none", "the baseline explains the data to the noise", ("afo", "knee", "ankle", "replica"),
           lambda p, nl: _plain(p), lambda c, nl: {}),
     friction_cause("tanh"),
-    Cause("viscous_damping", "torque proportional to angular velocity (hysteresis growing with speed)",
-          ("afo", "knee", "ankle"), lambda p, nl: _plain(p, p.omega),
-          lambda c, nl: {"damping_Nm_s_per_rad": float(c[0])}, "damping_Nm_s_per_rad", signs=(1,), hysteretic=True),
+    damping_cause("viscous"),
     Cause("series_compliance", "a compliant element in series (apparent stiffness falling with load)",
           ("afo", "knee", "ankle"), _compliant,
           lambda c, nl: {"compliance_deg_per_Nm": float(np.rad2deg(nl[0])),

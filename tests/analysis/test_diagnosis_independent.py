@@ -286,3 +286,40 @@ def test_a_settling_or_wandering_drift_is_judged_where_it_interpolates() -> None
     clean = [named_causes(diagnose(_trial(generate_d(k, (), s)))) for k, s in cases]
     assert sum(n == {"sensor_drift"} for n in drift) >= 6, drift
     assert sum(bool(n) for n in clean) <= 1, clean
+
+
+def test_relaxed_velocity_is_a_maxwell_elements_lag() -> None:
+    """A Maxwell element's force over its damping k·τ is the velocity through a first-order lag of τ: at constant
+    speed it reaches the speed (plain damping at low speed), after a step it rises as 1 − e^{−t/τ}."""
+    from analysis.diagnosis.causes import Prepared, relaxed_velocity
+    from analysis.diagnosis.data import DiagnosisTrial
+
+    t = np.arange(0.0, 10.0, 0.005)
+    trial = DiagnosisTrial("knee", t, np.deg2rad(10.0) * t, np.zeros_like(t), {"hip_flexion_deg": 90.0},
+                           {"mass_kg": 75.0, "shank_length_m": 0.4, "foot_length_m": 0.26}, "unit", 0.0)
+    prep = Prepared.of(trial)
+    prep.omega = np.where(t >= 2.0, 1.0, 0.0)
+    y = relaxed_velocity(prep, 0.2)
+    k = int(np.searchsorted(t, 2.0))
+    np.testing.assert_allclose(y[k:k + 200], 1.0 - np.exp(-0.005 * np.arange(1, 201) / 0.2), rtol=1e-9)
+    assert y[-1] == pytest.approx(1.0, abs=1e-9) and np.all(y[:k] == 0.0)
+
+
+def test_viscoelastic_damping_is_sized_at_low_speed_alone() -> None:
+    """Damping from a Maxwell element (the fifth generator family's: soft tissue's standard linear solid, relaxation
+    0.03–0.3 s) on ankle sweeps: with damping proportional to the velocity only, the lag was left for friction or a
+    burst beside it and the damping read 2–27 % low (3 of 4 on development seeds 700000–700003 of that family); with
+    the relaxed law among the damping laws, 4 of 4 named alone within 2 %. Fresh seeds: at least 4 of 5 named alone,
+    their magnitudes (the low-speed k·τ) within 15 %."""
+    from benchmarks.diagnosis_family_b import _trial
+    from benchmarks.family_e_truth import generate_e
+
+    named, errors = [], []
+    for seed in range(710000, 710005):
+        g = generate_e("ankle", ("viscous_damping",), seed)
+        d = diagnose(_trial(g))
+        named.append(named_causes(d))
+        if named[-1] == {"viscous_damping"}:
+            errors.append(abs(d.parameters["damping_Nm_s_per_rad"] / g.effects["viscous_damping"] - 1.0))
+    assert sum(n == {"viscous_damping"} for n in named) >= 4, named
+    assert max(errors) < 0.15, errors
