@@ -1,0 +1,62 @@
+"""The sixth generator family: each cause hidden as documented, sized against the noise, with a rig's nuisances."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from benchmarks.family_f_truth import (
+    EFFECTS,
+    MAGNITUDE_KEY,
+    NOISE_SD_NM,
+    _first_order,
+    _gent,
+    generate_f,
+)
+
+
+@pytest.mark.parametrize("kind", list(EFFECTS))
+def test_each_cause_is_hidden_with_its_truth_in_a_recording_with_a_labs_damage(kind: str) -> None:
+    for cause in EFFECTS[kind]:
+        g = generate_f(kind, (cause,), 11)
+        assert set(g.effects) == {cause}
+        truth = g.effects[cause]
+        assert (truth is None) == (MAGNITUDE_KEY[cause] is None)
+        assert truth is None or truth > 0
+        t = g.time_s[np.isfinite(g.time_s)]
+        assert np.all(np.diff(t) > 0) and (~np.isfinite(g.time_s)).sum() < 0.01 * g.time_s.size
+    assert np.isfinite(generate_f(kind, (), 11).torque_nm).mean() > 0.99
+
+
+def test_friction_follows_the_direction_through_its_lag_and_fades() -> None:
+    """The friction's sign follows the direction of motion through a first-order lag: after a reversal it settles
+    exponentially with its time constant (exactly, per sample)."""
+    t = np.linspace(0.0, 1.0, 1001)
+    step = np.where(t >= 0.5, 1.0, -1.0)
+    out = _first_order(t, step, 0.05)
+    assert out[0] == -1.0 and out[-1] == pytest.approx(1.0, abs=1e-3)
+    assert out[550] == pytest.approx(1.0 - 2.0 * np.exp(-0.051 / 0.05), rel=1e-9)  # 51 steps of 1 ms
+
+
+def test_gent_stiffening_grows_without_bound_toward_its_limit() -> None:
+    x = np.array([-1.0, 0.0, 5.0, 9.0, 9.9])
+    f = _gent(x, 1.0, 10.0)
+    assert f[0] == 0.0 and f[1] == 0.0 and f[2] == pytest.approx(5.0 / 0.75)
+    assert f[4] > 10 * f[2] / 5.0 * 9.9  # far steeper than linear near the limit
+
+
+def test_magnitudes_span_the_documented_ranges() -> None:
+    delays = [generate_f("knee", ("time_delay",), s).effects["time_delay"] for s in range(30)]
+    assert max(delays) > 0.35 and min(delays) < 0.15
+    for s in range(5):
+        g = generate_f("knee", ("gravity_error",), s)
+        assert 3.0 * 0.8 * NOISE_SD_NM["knee"] <= g.effects["gravity_error"] <= 5.0 * 1.25 * NOISE_SD_NM["knee"] * 1.001
+    stops = [generate_f("ankle", ("hard_stop",), s).details for s in range(16)]
+    assert {d["stop_end"] for d in stops} == {"low", "high"}
+    rates = {generate_f("afo", (), s).details["rate_hz"] for s in range(30)}
+    assert max(rates) == 1000.0 and min(rates) == 120.0
+
+
+def test_a_seed_makes_the_same_trial() -> None:
+    a, b = generate_f("knee", ("inertia", "time_delay"), 3), generate_f("knee", ("inertia", "time_delay"), 3)
+    assert np.array_equal(a.torque_nm, b.torque_nm, equal_nan=True) and a.effects == b.effects
