@@ -1,11 +1,11 @@
 """The diagnosis on the sixth generator family (:mod:`benchmarks.family_f_truth`), run once the engine froze.
 
-The fifth family was run once and then used in development (its findings led to this round's change: damping has
-a viscoelastic law, a Maxwell element, beside the viscous one). The sixth was written during that round, before the
-engine froze, and was not run on the engine until it froze; its figures are measured, not tuned on. Same effects, seeds, scoring and keys as
-:mod:`benchmarks.diagnosis_family_b` (``accuracy``, ``pair_accuracy``, ``false_alarm_rate``,
-``magnitude_within_15pct``, ``interval_coverage``, ``seconds_per_trial``, the PySINDy peer's ``sindy_*`` twins),
-plus ``accuracy_or_untestable_said``.
+The fifth family was run once and then used in development (its findings led to this round's change: damping
+has a viscoelastic law, a Maxwell element, beside the viscous one). The sixth was written during that round,
+before the engine froze, and was not run on the engine until it froze; its figures are measured, not tuned on.
+Same effects, seeds, scoring and keys as :mod:`benchmarks.diagnosis_family_b` (``accuracy``,
+``pair_accuracy``, ``false_alarm_rate``, ``magnitude_within_15pct``, ``interval_coverage``,
+``seconds_per_trial``, the PySINDy peer's ``sindy_*`` twins), plus ``accuracy_or_untestable_said``.
 """
 
 from __future__ import annotations

@@ -150,8 +150,9 @@ class _Search:
         """Held-out RMSE (N·m) of the model ``names`` (:meth:`heldout_residuals`); ``interior``: over the blocks
         between the first and the last only (where a function of time is interpolated, not extrapolated)."""
         e = self.heldout_residuals(names)
-        if interior:
-            e = e[np.concatenate(time_blocks(e.size, self.folds)[1:-1])]
+        inner = time_blocks(e.size, self.folds)[1:-1] if interior else []
+        if inner:  # with fewer than three folds every block is an end block: all are used
+            e = e[np.concatenate(inner)]
         e = e[np.isfinite(e)]
         return float(np.sqrt(np.mean(e**2))) if e.size else float("nan")
 

@@ -323,3 +323,14 @@ def test_viscoelastic_damping_is_sized_at_low_speed_alone() -> None:
             errors.append(abs(d.parameters["damping_Nm_s_per_rad"] / g.effects["viscous_damping"] - 1.0))
     assert sum(n == {"viscous_damping"} for n in named) >= 4, named
     assert max(errors) < 0.15, errors
+
+
+def test_two_folds_judge_a_drift_on_every_block() -> None:
+    """With fewer than three held-out blocks there is no interior one: a drift is then judged on all of them (the
+    interior rule must not leave it nothing to be judged on)."""
+    from benchmarks.diagnosis_family_b import _trial
+    from benchmarks.family_d_truth import generate_d
+
+    d = diagnose(_trial(generate_d("knee", ("sensor_drift",), 650001)), folds=2)
+    drift = next(c for c in d.candidates if c.cause == "sensor_drift")
+    assert np.isfinite(drift.heldout_rmse_nm) and drift.heldout_rmse_nm > 0
