@@ -44,8 +44,10 @@ from instrument.store import SessionStore, Subject
 
 #: the variant of subject i is VARIANTS[i % len(VARIANTS)] (as ``pmp_realistic``'s, one mismatch each)
 VARIANTS = ("matched", "compliant_tone", "end_range", "unmodelled_muscles", "tape", "set_angle")
-#: seeds of the truth's draws (pmp_realistic's development and measured seeds are 900–13999)
-COHORT_SEED_BASE = 20000
+#: seeds of the truth's draws (pmp_realistic's development and measured seeds are 900–13999, 15000–15509 and
+#: 50000–50502). 20000 until the twelfth stop, whose rerun there showed a tape-error subject outside its interval
+#: (the cohort's intervals lacked the measured inputs' share); the fix is measured on fresh subjects
+COHORT_SEED_BASE = 21000
 FOOT_M = 0.26
 #: OpenSim's poses every this many degrees over each sweep's range ±3°, a cubic spline between (deg)
 POSE_STEP_DEG = 1.0

@@ -16,10 +16,12 @@ Bootstrap (:func:`bootstrap_trials`): replicate ``b ≥ 1`` of a subject resampl
   autocorrelation time (at least 1 s) and added back to the fitted torque (a block bootstrap of
   the sweep: serial correlation and model misfit kept, trial-to-trial variability not seen).
 
-The 95 % interval of a parameter is the subject's estimate ± (t(0.975, B−1) · SD of its B
-bootstrap estimates + the bound on the bias the muscle model's own error can cause,
-``identifiability(...).model_error_bound_rel``: resampling sees the noise, not the model's
-systematic error); the percentile interval of the bootstrap estimates is reported beside it. A parameter counts as
+The 95 % interval of a parameter is the subject's estimate ± (√((t(0.975, B−1) · SD of its B
+bootstrap estimates)² + (1.96 · the SE its measured inputs cause, ``identifiability(...).measurement_se_rel``)²)
++ the bound on the bias the muscle model's own error can cause, ``identifiability(...).model_error_bound_rel``):
+resampling sees the noise, not the tape's, goniometer's or scale's error, nor the model's systematic error. Without
+the measured inputs' share, a tape-error subject's slack length 0.48 % off lay outside its interval (`benchmarks
+cohort`, seed 20000). The percentile interval of the bootstrap estimates is reported beside it. A parameter counts as
 *determined* when the subject's fit says so (:func:`analysis.pmp.estimator.identifiability`) and
 the bootstrap interval is within ±3.5 % (the dissertation's accuracy).
 
@@ -47,7 +49,7 @@ from .muscles import LegMuscles
 from .problem import estimate
 
 #: bumped when a change to the fit or the resampling changes results (invalidates stored results)
-METHOD_VERSION = "cohort-4"
+METHOD_VERSION = "cohort-5"
 #: half-width limit of a determined parameter's bootstrap interval (relative): the dissertation's 3.5 %
 DETERMINED_HALF_WIDTH_REL = 0.035
 #: shortest residual block of the sweep bootstrap (s)
@@ -156,7 +158,7 @@ def run_fit_task(task: FitTask) -> dict[str, Any]:
         idf = identifiability(res, task.trials, task.subject, leg=leg, extension=extension)
         out["identifiability"] = {k: getattr(idf, k) for k in ("determined", "undetermined", "ci95", "misfit_ratio",
                                                        "residual_rms_nm", "noise_nm", "not_determined_because",
-                                                       "at_bound", "model_error_bound_rel")}
+                                                       "at_bound", "model_error_bound_rel", "measurement_se_rel")}
         # the extended model simulated at the set angles its fit found, as the single-subject report does
         fd_trials = with_set_angles(task.trials, res.set_angle_offsets_rad) if extension is not None else task.trials
         fd = [forward_dynamics(t, task.subject, res.parameters, leg=leg, extension=extension,
@@ -228,6 +230,7 @@ def subject_summary(main: dict[str, Any], replicates: list[dict[str, Any]],
     ok = [r for r in replicates if r["success"]]
     determined_fit = set(main.get("identifiability", {}).get("determined", []))
     bias_rel = main.get("identifiability", {}).get("model_error_bound_rel", {})
+    measured_rel = main.get("identifiability", {}).get("measurement_se_rel", {})
     rows: dict[str, Any] = {}
     for name, value in main["parameters"].items():
         draws = np.array([r["parameters"][name] for r in ok])
@@ -235,7 +238,8 @@ def subject_summary(main: dict[str, Any], replicates: list[dict[str, Any]],
         bias = float(bias_rel.get(name, 0.0)) * abs(value)
         if draws.size >= 2:
             sd = float(np.std(draws, ddof=1))
-            half = float(stats.t.ppf(0.975, draws.size - 1)) * sd + bias
+            measured = 1.96 * float(measured_rel.get(name, 0.0)) * abs(value)
+            half = math.hypot(float(stats.t.ppf(0.975, draws.size - 1)) * sd, measured) + bias
             row.update(sd=sd, ci95=[value - half, value + half],
                        percentile95=[float(np.percentile(draws, 2.5)), float(np.percentile(draws, 97.5))])
             row["determined"] = bool(main["success"] and name in determined_fit

@@ -113,6 +113,21 @@ def test_interval_is_t_times_the_bootstrap_sd_plus_the_model_error_bound() -> No
     assert coverage([s])["determined_with_truth"] == (1 if row["determined"] else 0)
 
 
+def test_the_measured_inputs_share_joins_the_bootstrap_in_quadrature() -> None:
+    """Resampling the sweeps does not see the tape's, goniometer's or scale's error: their propagated SE
+    (identifiability's measurement_se_rel) joins the bootstrap's in quadrature, the bias bound beside both."""
+    draws = [1.0, 1.002, 0.998, 1.001, 0.999]
+    reps = [{"success": True, "parameters": {"a.tendon_slack_length_m": d}} for d in draws]
+    main = _main(value=1.0)
+    plain = subject_summary(main, reps, truth={"a.tendon_slack_length_m": 1.012})["parameters"]["a.tendon_slack_length_m"]
+    main["identifiability"]["measurement_se_rel"] = {"a.tendon_slack_length_m": 0.006}
+    row = subject_summary(main, reps, truth={"a.tendon_slack_length_m": 1.012})["parameters"]["a.tendon_slack_length_m"]
+    boot = stats.t.ppf(0.975, 4) * np.std(draws, ddof=1)
+    half = float(np.hypot(boot, 1.96 * 0.006)) + 0.001
+    assert row["ci95"] == pytest.approx([1.0 - half, 1.0 + half])
+    assert not plain["covered"] and row["covered"]  # a 1.2 % tape-driven error: outside without it, inside with it
+
+
 def test_a_wide_bootstrap_or_an_undetermined_fit_is_not_called_determined() -> None:
     wide = [{"success": True, "parameters": {"a.tendon_slack_length_m": d}} for d in (0.8, 1.2, 0.9, 1.1)]
     assert not subject_summary(_main(), wide)["parameters"]["a.tendon_slack_length_m"]["determined"]
