@@ -370,7 +370,11 @@ def burst_bounds(prep: Prepared, nl: tuple[float, ...]) -> tuple[float, float]:
 def dahl_state(prep: Prepared, width_rad: float) -> np.ndarray:
     """The unit friction state of Dahl's model along the trial's path, z ∈ [−1, 1]: w·dz/d|θ| = sgn(θ̇) − z,
     i.e. after each reversal z = s + (z₀ − s)·exp(−Δ/w), Δ the angle travelled since (rad, from the smoothed
-    velocity, so sensor noise at rest does not move it), s the direction; at rest z holds. Starts at 0."""
+    velocity, so sensor noise at rest does not move it), s the direction; at rest z holds. Starts at 0.
+
+    Across a gap in the kept samples (an AFO's bend below the spring's engagement, left out) the travel is read as
+    the first kept sample's velocity times the gap: the bend down and back spans ≥ 12°, many widths, so the
+    state arrives at the new direction's ±1 either way."""
     step = prep.omega * np.diff(prep.t, prepend=prep.t[0])
     direction = np.sign(step)
     moving = np.flatnonzero(direction)
