@@ -45,8 +45,7 @@ INSEPARABLE = {frozenset({"viscous_damping", "time_delay"}), frozenset({"coulomb
 SINGLE_SEEDS, CLEAN_SEEDS, PAIR_SEEDS = 8, 20, 1
 
 
-def _trial(g: FamilyBTrial | family_c_truth.FamilyCTrial | family_d_truth.FamilyDTrial
-           | family_e_truth.FamilyETrial | family_f_truth.FamilyFTrial) -> Any:
+def _trial(g: FamilyBTrial | family_c_truth.FamilyCTrial | family_d_truth.FamilyDTrial) -> Any:
     from analysis.diagnosis import DiagnosisTrial
 
     return DiagnosisTrial(g.kind, g.time_s, g.angle_rad, g.torque_nm, g.fixed_deg, g.subject, "family B",

@@ -3,7 +3,8 @@
 The second to fourth families (:mod:`benchmarks.family_b_truth`, ``family_c_truth``, ``family_d_truth``) became
 development data once run; the round that froze 193e037 developed against the fourth (Dahl's friction law of the
 path, a drift judged on interpolated blocks). This one draws every cause from a law none of the earlier families
-or the engine's library uses. Nothing is imported from ``analysis`` or from the other generators.
+or the engine's library uses. Nothing is imported from ``analysis``, nor any physics from the other
+generators (only the scoring contract of :mod:`benchmarks.family_b_truth`: effects, magnitude keys, the trial record).
 
 - Passive moment: quadratic-softplus stiffening at each end of the range, k·w²·softplus(x/w)² with x the
   angle past an onset and w 3–8° its smoothness (it grows quadratically, not exponentially, far past the
@@ -44,39 +45,16 @@ Angles in degrees at the edges, SI in the returned arrays.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
+# the scoring contract every family shares with the harness (benchmarks.diagnosis_family_b): the effects each kind
+# may hide, the engine's magnitude key per cause, the trial record; the physics below is this family's own
+from .family_b_truth import EFFECTS, MAGNITUDE_KEY, FamilyBTrial
+
 GRAVITY = 9.81
 NOISE_SD_NM = {"afo": 0.05, "knee": 0.18, "ankle": 0.1}
-EFFECTS: dict[str, tuple[str, ...]] = {
-    "afo": ("coulomb_friction", "viscous_damping", "hard_stop", "time_delay", "sensor_drift", "series_compliance"),
-    "knee": ("coulomb_friction", "viscous_damping", "hard_stop", "time_delay", "activation_burst", "gravity_error",
-             "sensor_drift", "series_compliance", "inertia"),
-    "ankle": ("coulomb_friction", "viscous_damping", "hard_stop", "time_delay", "activation_burst", "gravity_error",
-              "sensor_drift", "series_compliance", "inertia"),
-}
-#: the engine's magnitude key per cause (None: named only)
-MAGNITUDE_KEY: dict[str, str | None] = {
-    "coulomb_friction": "friction_Nm", "viscous_damping": "damping_Nm_s_per_rad", "hard_stop": None,
-    "time_delay": "delay_s", "activation_burst": "burst_amplitude_Nm", "gravity_error": "gravity_moment_error_Nm",
-    "sensor_drift": None, "series_compliance": "compliance_deg_per_Nm", "inertia": "inertia_kgm2"}
-
-
-@dataclass
-class FamilyETrial:
-    """A trial of the fifth family and what it hides (``effects``: cause → true magnitude, None if named only)."""
-
-    kind: str
-    time_s: np.ndarray
-    angle_rad: np.ndarray
-    torque_nm: np.ndarray
-    fixed_deg: dict[str, float]
-    subject: dict[str, float]
-    effects: dict[str, float | None]
-    details: dict[str, Any] = field(default_factory=dict)
 
 
 def _min_jerk(a: float, b: float, duration: float, rate: float) -> np.ndarray:
@@ -231,7 +209,7 @@ def _resonant_noise(rng: np.random.Generator, n: int, rate: float, sd: float) ->
     return sd * total / float(np.std(total))
 
 
-def generate_e(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> FamilyETrial:
+def generate_e(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> FamilyBTrial:
     """One trial of ``kind`` hiding ``effects`` (names as :data:`EFFECTS`), drawn from ``seed``."""
     for e in effects:
         if e not in EFFECTS[kind]:
@@ -342,4 +320,7 @@ def generate_e(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Famil
     nan_rate = rng.uniform(0.0, 0.005)
     for col in (stamp, angle, torque):
         col[rng.random(col.size) < nan_rate] = np.nan
-    return FamilyETrial(kind, stamp, angle, torque, fixed, subject, {e: truth[e] for e in effects}, details)
+    return FamilyBTrial(kind, stamp, angle, torque, fixed, subject, {e: truth[e] for e in effects}, details)
+
+
+__all__ = ["EFFECTS", "MAGNITUDE_KEY", "NOISE_SD_NM", "FamilyBTrial", "generate_e"]

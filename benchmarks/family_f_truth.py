@@ -2,7 +2,8 @@
 
 The second to fifth families (:mod:`benchmarks.family_b_truth` … ``family_e_truth``) became development data once
 run. This one draws every cause from a law none of them or the engine's library uses. Nothing is imported from
-``analysis`` or from the other generators.
+``analysis``, nor any physics from the other generators (only the scoring contract of
+:mod:`benchmarks.family_b_truth`: effects, magnitude keys, the trial record).
 
 - Passive moment: limiting-extensibility (Gent-like) stiffening at each end, k·x/(1 − (x/x_max)²) for x the
   angle past an onset (x_max 1.3–2.5 × the furthest x the sweep reaches), the onsets shifted by the other
@@ -39,39 +40,16 @@ Angles in degrees at the edges, SI in the returned arrays.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
+# the scoring contract every family shares with the harness (benchmarks.diagnosis_family_b): the effects each kind
+# may hide, the engine's magnitude key per cause, the trial record; the physics below is this family's own
+from .family_b_truth import EFFECTS, MAGNITUDE_KEY, FamilyBTrial
+
 GRAVITY = 9.81
 NOISE_SD_NM = {"afo": 0.05, "knee": 0.18, "ankle": 0.1}
-EFFECTS: dict[str, tuple[str, ...]] = {
-    "afo": ("coulomb_friction", "viscous_damping", "hard_stop", "time_delay", "sensor_drift", "series_compliance"),
-    "knee": ("coulomb_friction", "viscous_damping", "hard_stop", "time_delay", "activation_burst", "gravity_error",
-             "sensor_drift", "series_compliance", "inertia"),
-    "ankle": ("coulomb_friction", "viscous_damping", "hard_stop", "time_delay", "activation_burst", "gravity_error",
-              "sensor_drift", "series_compliance", "inertia"),
-}
-#: the engine's magnitude key per cause (None: named only)
-MAGNITUDE_KEY: dict[str, str | None] = {
-    "coulomb_friction": "friction_Nm", "viscous_damping": "damping_Nm_s_per_rad", "hard_stop": None,
-    "time_delay": "delay_s", "activation_burst": "burst_amplitude_Nm", "gravity_error": "gravity_moment_error_Nm",
-    "sensor_drift": None, "series_compliance": "compliance_deg_per_Nm", "inertia": "inertia_kgm2"}
-
-
-@dataclass
-class FamilyFTrial:
-    """A trial of the sixth family and what it hides (``effects``: cause → true magnitude, None if named only)."""
-
-    kind: str
-    time_s: np.ndarray
-    angle_rad: np.ndarray
-    torque_nm: np.ndarray
-    fixed_deg: dict[str, float]
-    subject: dict[str, float]
-    effects: dict[str, float | None]
-    details: dict[str, Any] = field(default_factory=dict)
 
 
 def _cosine_sweeps(rng: np.random.Generator, lo: float, hi: float, rate: float) -> np.ndarray:
@@ -159,7 +137,7 @@ def _first_order(t: np.ndarray, x: np.ndarray, tau: float) -> np.ndarray:
     return out
 
 
-def generate_f(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> FamilyFTrial:
+def generate_f(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> FamilyBTrial:
     """One trial of ``kind`` hiding ``effects`` (names as :data:`EFFECTS`), drawn from ``seed``."""
     for e in effects:
         if e not in EFFECTS[kind]:
@@ -299,4 +277,7 @@ def generate_f(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Famil
     nan_rate = rng.uniform(0.0, 0.004)
     for col in (stamp, angle, torque):
         col[rng.random(col.size) < nan_rate] = np.nan
-    return FamilyFTrial(kind, stamp, angle, torque, fixed, subject, {e: truth[e] for e in effects}, details)
+    return FamilyBTrial(kind, stamp, angle, torque, fixed, subject, {e: truth[e] for e in effects}, details)
+
+
+__all__ = ["EFFECTS", "MAGNITUDE_KEY", "NOISE_SD_NM", "FamilyBTrial", "generate_f"]

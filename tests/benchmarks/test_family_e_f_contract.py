@@ -1,0 +1,38 @@
+"""The fifth and sixth generator families' shared contract: each cause hidden with its truth in a recording with a
+lab's damage, and a seed making the same trial. Each family's own physics is tested in its own module."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+import pytest
+
+from benchmarks.family_b_truth import EFFECTS, MAGNITUDE_KEY
+from benchmarks.family_e_truth import generate_e
+from benchmarks.family_f_truth import generate_f
+
+GENERATORS = {"e": generate_e, "f": generate_f}
+
+
+@pytest.mark.parametrize("family", list(GENERATORS))
+@pytest.mark.parametrize("kind", list(EFFECTS))
+def test_each_cause_is_hidden_with_its_truth_in_a_recording_with_a_labs_damage(family: str, kind: str) -> None:
+    generate: Callable[..., Any] = GENERATORS[family]
+    for cause in EFFECTS[kind]:
+        g = generate(kind, (cause,), 11)
+        assert set(g.effects) == {cause}
+        truth = g.effects[cause]
+        assert (truth is None) == (MAGNITUDE_KEY[cause] is None)
+        assert truth is None or truth > 0
+        t = g.time_s[np.isfinite(g.time_s)]
+        assert np.all(np.diff(t) > 0) and (~np.isfinite(g.time_s)).sum() < 0.01 * g.time_s.size
+    assert np.isfinite(generate(kind, (), 11).torque_nm).mean() > 0.99
+
+
+@pytest.mark.parametrize("family", list(GENERATORS))
+def test_a_seed_makes_the_same_trial(family: str) -> None:
+    generate = GENERATORS[family]
+    a, b = generate("knee", ("inertia", "time_delay"), 3), generate("knee", ("inertia", "time_delay"), 3)
+    assert np.array_equal(a.torque_nm, b.torque_nm, equal_nan=True) and a.effects == b.effects
