@@ -38,6 +38,7 @@ Sign convention as the estimator's: moments toward positive angle, q̇ in rad/s.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 from collections.abc import Callable
@@ -319,6 +320,9 @@ class ModelDiagnosis:
     #: extensions that predict the left-out trials nearly as well as the named one (within 5 % of its
     #: held-out ratio): these trials do not separate them, and the message says what would
     ambiguous_with: list[str] = field(default_factory=list)
+    #: the named model's fit on every trial (muscles' parameters, the extension's values, set-angle offsets): a start
+    #: for the refit that reports it
+    named_fit: FitStart | None = None
 
     def winner(self) -> ExtensionFinding | None:
         return next((c for c in self.candidates if c.name == self.cause), None)
@@ -378,20 +382,28 @@ def predict_torque_nm(result: PmpResult, trial: PmpTrial, subject: Subject, leg:
 
 
 def fit_extended(trials: list[PmpTrial], subject: Subject, extension: Extension, *, leg: LegMuscles,
-                 intervals: int, plain: PmpResult) -> PmpResult:
-    """The muscle parameters refitted with ``extension``'s terms beside them, started from the plain fit.
+                 intervals: int, plain: PmpResult, found: FitStart | None = None) -> PmpResult:
+    """The muscle parameters refitted with ``extension``'s terms beside them: from the plain fit, from the generic
+    model and, when given, from ``found`` (the model-level diagnosis's fit of this model); the converged fit of
+    lowest objective (cost and priors) is kept.
 
-    The extension's terms can hold what the plain fit pushed into the muscles, and from the plain fit's
-    parameters the refit can stay in that basin (a demo subject's soleus ε0 went to its bound, at a cost 2 %
-    above the generic start's). So when that refit fails or leaves a muscle parameter at a bound, it is
-    repeated from the generic model and the lower cost is kept.
+    The extended problem has several basins. The extension's terms can hold what the plain fit pushed into the
+    muscles, and from the plain fit's parameters the refit can stay in that basin (a demo subject's soleus ε0 went
+    to its bound, at a cost 2 % above the generic start's; an OpenSim-made subject with compliant knee tendons, a
+    tone and end-range structures ended at a cost 26 % above the generic start's, rectus femoris' slack length
+    8.1 % off against an interval of ±3.2 %, the generic start's 0.2 %).
     """
-    from .identifiability import parameters_at_bound
-
-    fits = [estimate(trials, subject, leg=leg, intervals=intervals, extension=extension, initial=plain.parameters)]
-    if not fits[0].success or parameters_at_bound(fits[0]):
-        fits.append(estimate(trials, subject, leg=leg, intervals=intervals, extension=extension))
-    return min((f for f in fits if f.success), key=lambda f: f.fun, default=fits[0])
+    problem = build_problem(trials, subject, leg=leg, intervals=intervals, extension=extension)
+    starts: list[FitStart] = [(dict(plain.parameters), tuple(extension.start or (0.0,) * len(extension.parameters)),
+                               dict(plain.set_angle_offsets_rad)),
+                              (dict(plain.generic), tuple(extension.start or (0.0,) * len(extension.parameters)), {})]
+    if found is not None and len(found[1]) == len(extension.parameters):
+        starts.append(found)
+    fits = []
+    for start in starts:
+        problem.start_at(*start)
+        fits.append(solve(problem))
+    return min((f for f in fits if f.success), key=lambda f: f.objective, default=fits[0])
 
 
 def _condition(trial: PmpTrial) -> str:
@@ -495,10 +507,30 @@ def _worker_init(context: dict[str, Any]) -> None:
 #: a candidate's job: its name (None: the plain model), the folds, and when to fit it on every trial as well
 #: (None: never; else the reference's RMSE per fold, the ratio it must beat, and whether every fold must be better)
 WholeRule = tuple[dict[str, float], float, bool] | None
-FitJob = tuple[str | None, list[Fold], WholeRule]
-#: what a job returns: per fold (held-out RMSE N·m, the extension's parameters), and the fit on every trial
-#: (the extension's parameters, the muscles') when the rule asked for it
-FitOutcome = tuple[list[tuple[float, dict[str, float]]], tuple[dict[str, float], dict[str, float]] | None]
+#: where a fit starts (or what it found): the muscles' parameters, the extension's values in its order, the set-angle
+#: offsets by label (SI)
+FitStart = tuple[dict[str, float], tuple[float, ...], dict[str, float]]
+#: the starts of a job's fits: per fold, then for the fit on every trial, the starts to try (None in a list: the plain
+#: fit's parameters and the extension's own start; the fit of lowest cost is kept); None: that default start only
+JobStarts = tuple[list[list[FitStart | None]], list[FitStart | None]] | None
+FitJob = tuple[str | None, list[Fold], WholeRule, JobStarts]
+#: what a job returns: per fold (held-out RMSE N·m, the extension's parameters, the fit's values as a start), and
+#: the fit on every trial (the extension's parameters, the muscles', the fit's values) when the rule asked for it
+FitOutcome = tuple[list[tuple[float, dict[str, float], FitStart]],
+                   tuple[dict[str, float], dict[str, float], FitStart] | None]
+
+
+def _found(fit: PmpResult, ext: Extension | None) -> FitStart:
+    """A fit's values as a start for a larger model's fit."""
+    values = tuple(float(fit.extension_parameters[n]) for n in ext.parameters) if ext is not None else ()
+    return dict(fit.parameters), values, dict(fit.set_angle_offsets_rad)
+
+
+def nested_start(found: FitStart, added: Extension) -> FitStart:
+    """The start of a model with ``added`` beside the one that found ``found``: where that model ended, the added
+    extension at its own start (≈ no effect), so the larger model starts at the smaller one's cost."""
+    params, values, offsets = found
+    return params, values + tuple(added.start if added.start is not None else (0.0,) * len(added.parameters)), offsets
 
 
 def fold_ratio(errors: dict[str, float], reference: dict[str, float]) -> tuple[float, bool]:
@@ -523,34 +555,47 @@ def _key_fits(job: FitJob, context: dict[str, Any] | None = None) -> FitOutcome:
     predict better than the reference's by the ratio). Block folds share one built problem (the held-out
     windows are its parameters: one build and one expansion serve every fold, each solved from the same
     start, so the fits are those of separate builds); folds leaving out whole trials are built each."""
-    key, folds, rule = job
+    key, folds, rule, starts = job
     w = _WORKER if context is None else context
     trials, subject, leg = w["trials"], w["subject"], w["leg"]
     ext = get_extension(key) if key else None
+    default: list[FitStart | None] = [None]
+    fold_starts: list[list[FitStart | None]] = [default] * len(folds)
+    whole_starts = default
+    if starts is not None:
+        fold_starts, whole_starts = starts
     shared = None
     if all(f.held_out_s is not None and len(f.fitted) == len(trials) for f in folds):
         shared = build_problem(trials, subject, leg=leg, intervals=w["intervals"], extension=ext, initial=w["initial"])
-    out = []
-    for fold in folds:
-        held = [list(win) for win in fold.held_out_s] if fold.held_out_s is not None else None
+    initial_ext = tuple(ext.start) if ext is not None and ext.start is not None else None
+
+    def fit_from(start: FitStart | None, fitted: list[int], held: list[list[tuple[float, float]]] | None) -> PmpResult:
         if shared is not None:
             shared.leave_out(held)
-            fit = solve(shared)
-        else:
-            fit = estimate([trials[j] for j in fold.fitted], subject, leg=leg, intervals=w["intervals"], extension=ext,
-                           initial=w["initial"], held_out_s=held)
-        out.append((_heldout_rms(fit, fold, w, ext), dict(fit.extension_parameters)))
+            shared.start_at(*(start if start is not None else (w["initial"], initial_ext, {})))
+            return solve(shared)
+        started = ext if ext is None or start is None else dataclasses.replace(ext, start=start[1])
+        return estimate([trials[j] for j in fitted], subject, leg=leg, intervals=w["intervals"], extension=started,
+                        initial=w["initial"] if start is None else start[0], held_out_s=held)
+
+    def best_fit(tries: list[FitStart | None], fitted: list[int], held: list[list[tuple[float, float]]] | None
+                 ) -> PmpResult:
+        # the same data from each start: the converged fit of lowest cost (the problem has several basins)
+        fits = [fit_from(start, fitted, held) for start in tries]
+        return min((f for f in fits if f.success), key=lambda f: f.objective, default=fits[0])
+
+    out = []
+    for fold, tries in zip(folds, fold_starts, strict=True):
+        held = [list(win) for win in fold.held_out_s] if fold.held_out_s is not None else None
+        fit = best_fit(tries, list(fold.fitted), held)
+        out.append((_heldout_rms(fit, fold, w, ext), dict(fit.extension_parameters), _found(fit, ext)))
     whole = None
     if rule is not None and key is not None:
         reference, below, every = rule
-        ratio, all_better = fold_ratio({f.label: rms for f, (rms, _) in zip(folds, out)}, reference)
+        ratio, all_better = fold_ratio({f.label: rms for f, (rms, _, _) in zip(folds, out)}, reference)
         if ratio < below and (all_better or not every):
-            if shared is not None:
-                shared.leave_out(None)
-                fit = solve(shared)
-            else:
-                fit = estimate(trials, subject, leg=leg, intervals=w["intervals"], extension=ext, initial=w["initial"])
-            whole = (dict(fit.extension_parameters), dict(fit.parameters))
+            fit = best_fit(whole_starts, list(range(len(trials))), None)
+            whole = (dict(fit.extension_parameters), dict(fit.parameters), _found(fit, ext))
     return out, whole
 
 
@@ -629,18 +674,21 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
     # the jackknife over k folds has k − 1 degrees of freedom: with two repeats the 97.5 % point is
     # 12.7, not 1.96 (at 1.96 a 0.05 N·m knee offset on clean OpenSim trials looked significant)
     t975 = float(student_t.ppf(0.975, k - 1))
-    full_fits: dict[str, tuple[dict[str, float], dict[str, float]]] = {}
+    full_fits: dict[str, tuple[dict[str, float], dict[str, float], FitStart]] = {}
+    fold_found: dict[str, list[FitStart]] = {}
 
-    def fit_folds(pool: _FitPool, keys: list[str | None], whole: WholeRule = None) -> None:
+    def fit_folds(pool: _FitPool, keys: list[str | None], whole: WholeRule = None,
+                  starts: dict[str, JobStarts] | None = None) -> None:
         """Each candidate without each fold; then on every trial when ``whole``'s rule holds for it: the
         candidates whose parameters and the muscles' shifts are reported as such, those that predict the folds
         better (named, a close rival, a pair) or nearly as well as the plain model (absorbed by the muscles).
         The others are reported with their folds' mean parameters."""
-        jobs: list[FitJob] = [(key, folds, whole) for key in keys]
+        jobs: list[FitJob] = [(key, folds, whole, (starts or {}).get(key or "none")) for key in keys]
         for key, (per_fold, full) in zip(keys, pool.fits(jobs), strict=True):
-            for fold, (rms, ext_params) in zip(folds, per_fold, strict=True):
+            for fold, (rms, ext_params, found) in zip(folds, per_fold, strict=True):
                 heldout.setdefault(key or "none", {})[fold.label] = rms
                 fold_params.setdefault(key or "none", []).append(ext_params)
+                fold_found.setdefault(key or "none", []).append(found)
             if full is not None and key is not None:
                 full_fits[key] = full
 
@@ -649,7 +697,7 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
 
     def finding(ext: Extension) -> ExtensionFinding:
         if ext.name in full_fits:
-            full_ext_params, full_params = full_fits[ext.name]
+            full_ext_params, full_params, _ = full_fits[ext.name]
             shift = {n: 100.0 * (full_params[n] / plain_fit.parameters[n] - 1.0) for n in plain_fit.parameters}
         else:  # not fitted whole (fit_whole): the folds' mean, and no shift to report
             full_ext_params = {p: float(np.mean([fp[p] for fp in fold_params[ext.name]])) for p in ext.parameters}
@@ -705,8 +753,18 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
                      and (current.angle is None or EXTENSIONS[f.name].angle is None)]
             if not nexts:
                 break
-            # fitted whole only when it may be named (its folds better than the model so far's by the margin)
-            fit_folds(pool, [e.name for e in nexts], (dict(heldout[chosen.name]), max_heldout_ratio, True))
+            # fitted whole only when it may be named (its folds better than the model so far's by the margin). The
+            # problem has several basins: each fit starts from the plain fit and from where the model so far ended on
+            # the same data (the added extension at its start), and keeps the lower cost, so the larger model never
+            # ends above the smaller one's cost (from the plain fit alone, compliant tendons beside end-range
+            # structures and a tone ended above the pair's cost and predicted the folds worse; from the smaller
+            # model's alone, a tone beside end-range structures stayed in its basin)
+            whole_so_far = full_fits.get(chosen.name)
+            fit_folds(pool, [e.name for e in nexts], (dict(heldout[chosen.name]), max_heldout_ratio, True),
+                      {e.name: ([[None, nested_start(f, EXTENSIONS[e.name.split(JOIN)[-1]])]
+                                 for f in fold_found[chosen.name]],
+                                [None] + ([nested_start(whole_so_far[2], EXTENSIONS[e.name.split(JOIN)[-1]])]
+                                          if whole_so_far is not None else [])) for e in nexts})
             better = chosen
             for e in nexts:
                 findings.append(finding(e))
@@ -727,7 +785,7 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
                + (f"; {', '.join(close)} predicts nearly as well as {best.name} (these trials do not separate them: "
                   + "; ".join(protocol_to_separate(n) for n in [best.name, *close]) + ")" if close else ""))
     return ModelDiagnosis(chosen.name, base, heldout["none"], findings, message, [f.label for f in folds],
-                          ambiguous_with=close)
+                          ambiguous_with=close, named_fit=full_fits[chosen.name][2] if chosen.name in full_fits else None)
 
 
 __all__ = ["folds_of", "EXTENSIONS", "Extension", "combine", "get_extension",

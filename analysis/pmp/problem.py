@@ -24,7 +24,7 @@ muscles (0.02–0.12). All decision variables are scaled to order one.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -85,6 +85,14 @@ class PmpResult:
     #: the fitted offset (rad) of each condition's fixed-joint set angle, keyed by ``set_angle_label``
     #: (e.g. ``"hip_set_angle_55deg (knee trials)"``); empty when the set angles were held as entered
     set_angle_offsets_rad: dict[str, float] = field(default_factory=dict)
+    #: the priors' share of the minimised objective (``fun`` + ``regularisation`` is what IPOPT minimised): fits of
+    #: one problem from different starts compare by that sum (:attr:`objective`)
+    regularisation: float = 0.0
+
+    @property
+    def objective(self) -> float:
+        """What the solver minimised: the cost and the priors' regularisation."""
+        return self.fun + self.regularisation
 
     @property
     def x(self) -> np.ndarray:
@@ -117,6 +125,30 @@ class PmpProblem:
     set_angles: Any = None
     set_angle_labels: list[str] = field(default_factory=list)
     set_angle_sd_rad: float = 0.0
+    #: the parameters' bounds (SI, in ``parameters.names``' order; a held parameter has both at its value)
+    lower: np.ndarray | None = None
+    upper: np.ndarray | None = None
+
+    def start_at(self, parameters: dict[str, float] | None = None, extension_values: Sequence[float] | None = None,
+                 set_angle_offsets_rad: dict[str, float] | None = None) -> None:
+        """Start the next solve from these values (SI: a fit's ``parameters``, its extension's values in the
+        extension's order, its set-angle offsets by label; each clipped into its bounds; what is not given keeps
+        its start). The states and controls start at the measured motion, as built."""
+        pset = self.parameters
+        lower = pset.lower if self.lower is None else self.lower
+        upper = pset.upper if self.upper is None else self.upper
+        if parameters is not None:
+            values = np.array([parameters.get(n, g) for n, g in zip(pset.names, pset.generic)])
+            self.opti.set_initial(self.p_scaled, np.clip(values, lower, upper) / pset.generic)
+        if extension_values is not None and self.n_ext:
+            ext = self.extension
+            size = np.asarray(ext.typical, dtype=float)
+            values = np.clip(np.asarray(extension_values, dtype=float), np.asarray(ext.lower), np.asarray(ext.upper))
+            self.opti.set_initial(self.e_scaled, values / size)
+        if set_angle_offsets_rad is not None and self.set_angles is not None:
+            offsets = np.array([set_angle_offsets_rad.get(lbl, 0.0) for lbl in self.set_angle_labels])
+            self.opti.set_initial(self.set_angles, np.clip(offsets / self.set_angle_sd_rad, -SET_ANGLE_MAX_SD,
+                                                           SET_ANGLE_MAX_SD))
 
     def leave_out(self, held_out_s: list[list[tuple[float, float]]] | None) -> None:
         """Leave the torque in these windows (per trial, (start, end) s) out of the cost of the next solve;
@@ -133,7 +165,7 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
              moment: Any = None, extension: Any = None,
              progress: Callable[[int, float], None] | None = None,
              held_out_s: list[list[tuple[float, float]]] | None = None, expand: bool = True,
-             fit_set_angles: bool = True) -> PmpResult:
+             fit_set_angles: bool = True, fixed: dict[str, float] | None = None) -> PmpResult:
     """Fit the passive parameters shared by ``trials`` (all at once): :func:`build_problem`, then :func:`solve`.
 
     ``progress(iteration, objective)`` is called after every IPOPT iteration (a progress line for
@@ -160,7 +192,7 @@ def estimate(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None
     """
     problem = build_problem(trials, subject, leg=leg, intervals=intervals, max_iter=max_iter, initial=initial,
                             parameters=parameters, moment=moment, extension=extension, held_out_s=held_out_s, expand=expand,
-                            fit_set_angles=fit_set_angles)
+                            fit_set_angles=fit_set_angles, fixed=fixed)
     return solve(problem, progress)
 
 
@@ -168,7 +200,7 @@ def build_problem(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles |
                   max_iter: int = 300, initial: dict[str, float] | None = None, parameters: ParameterSet | None = None,
                   moment: Any = None, extension: Any = None,
                   held_out_s: list[list[tuple[float, float]]] | None = None, expand: bool = True,
-                  fit_set_angles: bool = True) -> PmpProblem:
+                  fit_set_angles: bool = True, fixed: dict[str, float] | None = None) -> PmpProblem:
     """The collocation problem of :func:`estimate` (its arguments), built and not solved; ``expand``: the
     problem's functions expanded into scalar operations for the solver (slower to make, faster per iteration:
     for a problem solved for several held-out folds, :meth:`PmpProblem.leave_out`).
@@ -182,10 +214,16 @@ def build_problem(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles |
     leg = leg or LegMuscles()
     pset = parameters or free_parameters(leg, trials)
     n_par = len(pset.names)
+    unknown = sorted(set(fixed or {}) - set(pset.names))
+    if unknown:
+        raise InputError(f"cannot hold {', '.join(unknown)} fixed: not a free parameter of these trials")
+    lower, upper = pset.lower.copy(), pset.upper.copy()
+    for name, value in (fixed or {}).items():  # held at a value (a profile's point): both bounds there
+        lower[pset.names.index(name)] = upper[pset.names.index(name)] = value
     opti = ca.Opti()
     p_scaled = opti.variable(n_par)  # parameter = generic · p_scaled
-    opti.subject_to(opti.bounded(pset.lower / pset.generic, p_scaled, pset.upper / pset.generic))
-    start = np.array([(initial or {}).get(n, g) for n, g in zip(pset.names, pset.generic)]) / pset.generic
+    opti.subject_to(opti.bounded(lower / pset.generic, p_scaled, upper / pset.generic))
+    start = np.clip(np.array([(initial or {}).get(n, g) for n, g in zip(pset.names, pset.generic)]), lower, upper) / pset.generic
     opti.set_initial(p_scaled, start)
     n_ext = len(extension.parameters) if extension is not None else 0
     e_scaled = opti.variable(max(n_ext, 1))  # extension parameter = its typical size · e_scaled
@@ -197,7 +235,8 @@ def build_problem(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles |
                                            np.asarray(extension.upper) / e_size))
     else:
         opti.subject_to(e_scaled == 0)
-    problem = PmpProblem(opti, pset, p_scaled, e_scaled, 0, 0, [], extension, n_ext, intervals, max_iter)
+    problem = PmpProblem(opti, pset, p_scaled, e_scaled, 0, 0, [], extension, n_ext, intervals, max_iter,
+                         lower=lower, upper=upper)
     if fit_set_angles and moment is None and subject.set_angle_sd_rad > 0:
         conditions = sorted({set_angle_condition(t) for t in trials})
         problem.set_angle_labels = [set_angle_label(c) for c in conditions]
@@ -409,5 +448,6 @@ def solve(problem: PmpProblem, progress: Callable[[int, float], None] | None = N
                      fun=float(sol.value(cost)), nit=int(stats.get("iter_count", -1)), solve_time_s=solve_s,
                      success=success, status=FitStatus.CONVERGED if success else FitStatus.NOT_CONVERGED,
                      message=message, solver_status=str(stats.get("return_status", "unknown")), trials=res_trials,
-                     extension_parameters=ext_est, set_angle_offsets_rad=set_offsets)
+                     extension_parameters=ext_est, set_angle_offsets_rad=set_offsets,
+                     regularisation=float(sol.value(reg)))
 

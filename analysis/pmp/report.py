@@ -248,7 +248,8 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
         from .model_diagnosis import fit_extended
 
         plain_res, plain_idf = res, idf
-        res = fit_extended(trials, subject, fitted_extension, leg=leg, intervals=intervals, plain=plain_res)
+        res = fit_extended(trials, subject, fitted_extension, leg=leg, intervals=intervals, plain=plain_res,
+                           found=model.named_fit if model is not None else None)
         idf = identifiability(res, trials, subject, leg=leg, extension=fitted_extension)
         values = [float(res.extension_parameters[n]) for n in fitted_extension.parameters]
         contribution = []

@@ -238,3 +238,28 @@ def test_the_model_error_bound_is_sized_by_the_systematic_residual_and_determine
         for n in idf.determined:
             lo, hi = idf.ci95[n]
             assert (hi - lo) / 2 <= 0.035 * fit.parameters[n] * (1 + 1e-9), n
+
+
+def test_a_held_parameter_stays_at_its_value_and_a_problem_restarts_from_a_fit() -> None:
+    """``fixed`` holds a parameter (a profile's point: the others refitted, the objective no lower than the free
+    fit's); a built problem started at a fit's values ends there again (the multi-start refits compare objectives
+    of one problem); a name that is not a free parameter is refused."""
+    from analysis.errors import InputError
+    from analysis.pmp.problem import build_problem, solve
+
+    truth, trials, subject = simulated_subject(11, ("knee",))
+    free = estimate(trials, subject, intervals=12)
+    name = "recfem.tendon_slack_length_m"
+    held_at = free.parameters[name] * 1.04
+    held = estimate(trials, subject, intervals=12, fixed={name: held_at}, initial=free.parameters)
+    assert held.success and held.parameters[name] == pytest.approx(held_at, rel=1e-9)
+    assert held.objective > free.objective and held.regularisation > 0.0
+    assert held.lower[name] < held_at < held.upper[name]  # reported with the parameter's own bounds
+    with pytest.raises(InputError, match="not a free parameter"):
+        estimate(trials, subject, intervals=12, fixed={"soleus.tendon_slack_length_m": 0.3})
+    problem = build_problem(trials, subject, intervals=12)
+    problem.start_at(free.parameters, None, free.set_angle_offsets_rad)
+    again = solve(problem)
+    assert again.objective == pytest.approx(free.objective, rel=1e-6)
+    for n, v in free.parameters.items():
+        assert again.parameters[n] == pytest.approx(v, rel=1e-4)

@@ -200,9 +200,15 @@ def test_the_diagnosis_goes_on_past_a_pair_while_one_more_predicts_every_fold_be
         parts = frozenset(key.split(md.JOIN)) if key else frozenset()
         return errors.get(parts, 0.95 * min([v for k, v in errors.items() if k < parts] or [1.0]))  # a useless addition
 
+    seen: dict[str | None, object] = {}
+
     def fits(self: object, jobs: list) -> list:
-        return [([(error(key), {p: 0.0 for p in md.get_extension(key).parameters} if key else {}) for _ in folds], None)
-                for key, folds, _rule in jobs]
+        seen.update({key: starts for key, _folds, _rule, starts in jobs})
+        # what each fold's fit found: the muscles at 1, the extension's values numbered (checked as the next start)
+        return [([(error(key), {p: 0.0 for p in md.get_extension(key).parameters} if key else {},
+                   ({"m": 1.0}, tuple(float(i) for i in range(len(md.get_extension(key).parameters) if key else 0)), {}))
+                  for _ in folds], None)
+                for key, folds, _rule, _starts in jobs]
 
     monkeypatch.setattr(md._FitPool, "fits", fits)
     candidates = ["tonic_activation", "end_range_structures", "knee_tendon_compliance", "torque_offset"]
@@ -212,3 +218,11 @@ def test_the_diagnosis_goes_on_past_a_pair_while_one_more_predicts_every_fold_be
     assert "with end_range_structures beside it" in found.message and "with knee_tendon_compliance beside them" in found.message
     four = [f for f in found.candidates if f.name.count(md.JOIN) == 3]  # torque_offset beside the three: tried
     assert [f.name for f in four] == [found.cause + md.JOIN + "torque_offset"] and not four[0].named
+    # a single starts from the plain fit only; a larger model's folds also from where the model so far ended on the
+    # same fold (the added extension at its own start: knee tendons near rigid), the lower objective kept
+    assert seen["tonic_activation"] is None
+    pair_starts, _whole = seen["tonic_activation+end_range_structures+knee_tendon_compliance"]
+    tonic_and_end = len(md.get_extension("tonic_activation+end_range_structures").parameters)
+    for tries in pair_starts:
+        assert tries[0] is None and tries[1][0] == {"m": 1.0}
+        assert tries[1][1] == tuple(float(i) for i in range(tonic_and_end)) + EXTENSIONS["knee_tendon_compliance"].start
