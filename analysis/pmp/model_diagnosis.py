@@ -323,6 +323,10 @@ class ModelDiagnosis:
     #: the named model's fit on every trial (muscles' parameters, the extension's values, set-angle offsets): a start
     #: for the refit that reports it
     named_fit: FitStart | None = None
+    #: models the data favour over the named one on every left-out fold but by less than the naming margin (the named
+    #: model with one more extension, or a single extension when none is named; the best :data:`MAX_PLAUSIBLE` by
+    #: held-out ratio): the parameters' intervals also hold their estimates under these (model uncertainty)
+    plausible: list[str] = field(default_factory=list)
 
     def winner(self) -> ExtensionFinding | None:
         return next((c for c in self.candidates if c.name == self.cause), None)
@@ -338,6 +342,9 @@ class ModelDiagnosis:
                            if k in c.ci95)
             lines.append(f"  {c.name:<20}{c.heldout_rmse_nm:>13.3f} N·m{c.heldout_ratio:>8.2f}  {ps}"
                          + ("  ← named" if c.named else ""))
+        if self.plausible:
+            lines.append("  plausible beside it (better on every left-out fold, by less than the margin): "
+                         + ", ".join(self.plausible) + "; the parameters' intervals hold their estimates under these too")
         w = self.winner() or next((c for c in sorted(self.candidates, key=lambda c: c.heldout_ratio)
                                    if is_material(c)), None)
         if w is not None:
@@ -347,7 +354,7 @@ class ModelDiagnosis:
 
     def as_dict(self) -> dict[str, Any]:
         return {"cause": self.cause, "message": self.message, "folds": self.folds, "conclusive": self.conclusive,
-                "ambiguous_with": self.ambiguous_with,
+                "ambiguous_with": self.ambiguous_with, "plausible": self.plausible,
                 "plain_heldout_rmse_Nm": self.plain_heldout_rmse_nm, "plain_fold_rmse_Nm": self.plain_fold_rmse_nm,
                 "candidates": [{"name": c.name, "heldout_rmse_Nm": c.heldout_rmse_nm, "heldout_ratio": c.heldout_ratio,
                                 "parameters": c.parameters, "ci95": {k: list(v) for k, v in c.ci95.items()},
@@ -630,6 +637,18 @@ class _FitPool:
         return list(self.pool.map(_key_fits, jobs))
 
 
+#: the most models kept as plausible beside the named one (each costs the report one more fit)
+MAX_PLAUSIBLE = 2
+
+
+def favoured(ratios: list[tuple[str, float, bool]]) -> list[str]:
+    """Of (model, held-out ratio to the named model, every fold better), the models better on every fold: the data
+    favour them, by less than the naming margin (else they would be named), so they stay plausible; the best
+    :data:`MAX_PLAUSIBLE` by ratio."""
+    better = sorted((r, name) for name, r, every in ratios if every and r < 1.0)
+    return [name for _, name in better[:MAX_PLAUSIBLE]]
+
+
 def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles | None = None, intervals: int = 24,
                    candidates: list[str] | None = None, max_heldout_ratio: float = 0.9,
                    plain: PmpResult | None = None, workers: int | None = None) -> ModelDiagnosis:
@@ -728,6 +747,7 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
         passing = [f for f in findings if f.heldout_ratio < max_heldout_ratio and f.every_fold_better]
         close: list[str] = []
         if not passing:
+            plausible = favoured([(f.name, *ratio_to(f.name, "none")) for f in findings])
             absorbed = [f for f in findings if f.heldout_ratio < ABSORBED_RATIO and is_material(f)]
             message = (f"no extension predicts the left-out trials better than {max_heldout_ratio:.0%} of the plain "
                        f"model's {base:.3f} N·m: the model fits to the noise of these trials")
@@ -735,7 +755,8 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
                 message += ("; but " + ", ".join(f.name for f in absorbed) + " fit(s) with parameters away from zero "
                             "and the muscles' parameters absorb them (they move: see below): "
                             + "; ".join(protocol_to_separate(f.name) for f in absorbed))
-            return ModelDiagnosis("none", base, heldout["none"], findings, message, [f.label for f in folds])
+            return ModelDiagnosis("none", base, heldout["none"], findings, message, [f.label for f in folds],
+                                  plausible=plausible)
         best = min(passing, key=lambda f: f.heldout_ratio)
         close = [f.name for f in passing if f is not best and f.heldout_ratio <= best.heldout_ratio * 1.05]
         # forward selection: every other candidate is added to the model named so far, and the one that predicts every
@@ -746,6 +767,7 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
         singles = list(findings)
         chosen = best
         steps = [best]
+        plausible = []
         while True:
             current = get_extension(chosen.name)
             parts = chosen.name.split(JOIN)
@@ -766,12 +788,15 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
                                 [None] + ([nested_start(whole_so_far[2], EXTENSIONS[e.name.split(JOIN)[-1]])]
                                           if whole_so_far is not None else [])) for e in nexts})
             better = chosen
+            step_ratios = []
             for e in nexts:
                 findings.append(finding(e))
                 ratio, every = ratio_to(e.name, chosen.name)
+                step_ratios.append((e.name, ratio, every))
                 if ratio < max_heldout_ratio and every and findings[-1].heldout_ratio < better.heldout_ratio:
                     better = findings[-1]
             if better is chosen:
+                plausible = favoured(step_ratios)
                 break
             chosen = better
             steps.append(better)
@@ -785,7 +810,8 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
                + (f"; {', '.join(close)} predicts nearly as well as {best.name} (these trials do not separate them: "
                   + "; ".join(protocol_to_separate(n) for n in [best.name, *close]) + ")" if close else ""))
     return ModelDiagnosis(chosen.name, base, heldout["none"], findings, message, [f.label for f in folds],
-                          ambiguous_with=close, named_fit=full_fits[chosen.name][2] if chosen.name in full_fits else None)
+                          ambiguous_with=close, named_fit=full_fits[chosen.name][2] if chosen.name in full_fits else None,
+                          plausible=plausible)
 
 
 __all__ = ["folds_of", "EXTENSIONS", "Extension", "combine", "get_extension",

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from collections.abc import Callable
@@ -273,6 +274,26 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
                                  residual_rms_nm=idf.residual_rms_nm,
                                  plain_determined=list(plain_idf.determined), determined=list(idf.determined),
                                  plain_result=plain_res)
+    if model is not None and model.plausible:
+        # models the held-out test could not reject beside the named one: each fitted, and the intervals made to
+        # hold the parameters' estimates under them (model uncertainty)
+        from .identifiability import with_plausible_models
+        from .model_diagnosis import EXTENSIONS, JOIN, _found, fit_extended, nested_start
+
+        alternatives = []
+        for name in model.plausible:
+            alt_extension = named_extension(name)
+            if progress is not None:
+                progress(f"fit with {name} (plausible beside the named model) ...")
+            nested = fitted_extension is not None and name.startswith(fitted_extension.name + JOIN)
+            found = nested_start(_found(res, fitted_extension), EXTENSIONS[name.split(JOIN)[-1]]) if nested else None
+            alt_res = fit_extended(trials, subject, alt_extension, leg=leg, intervals=intervals,
+                                   plain=plain_res if extended is not None else res, found=found)
+            alternatives.append((name, alt_res, identifiability(alt_res, trials, subject, leg=leg,
+                                                                extension=alt_extension)))
+        idf = with_plausible_models(idf, res, alternatives)
+        if extended is not None:
+            extended = dataclasses.replace(extended, determined=list(idf.determined))
     # the physiological quantities of the determined parameters only (Figures 3.15–3.17's, eq 3.13/3.16)
     rep = representative_values(leg, res.parameters, subject.shank_length_m)
     determined = set(idf.determined)

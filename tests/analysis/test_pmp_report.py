@@ -53,3 +53,27 @@ def test_a_named_extension_is_fitted_directly_without_the_diagnosis() -> None:
     torque_panels = _fit_figure(report).axes[: len(offset)]
     assert all("torque_offset (its share)" in [t.get_text() for t in ax.get_legend().get_texts()]
                for ax in torque_panels)
+
+
+def test_a_plausible_model_beside_the_named_one_is_fitted_and_its_estimates_held_by_the_intervals(monkeypatch) -> None:
+    """When the held-out test leaves a model plausible (better on every fold, by less than the margin), the report
+    fits it and reports the hull of the intervals: every interval holds its own, and the parameters determined are
+    those both models determine (the diagnosis stubbed: it names nothing and leaves a tonic activation plausible)."""
+    import analysis.pmp.model_diagnosis as md
+
+    import dataclasses
+
+    _, trials, subject = simulated_subject(11, ("knee",))
+    # the simulated subject's anthropometry is exact (the model made the trials): no measurement uncertainty
+    subject = dataclasses.replace(subject, shank_length_sd_m=0.0, set_angle_sd_rad=0.0, mass_sd_kg=0.0)
+    plain = analyse(trials, subject, intervals=12)
+    monkeypatch.setattr(md, "diagnose_model", lambda *a, **k: md.ModelDiagnosis(
+        "none", 0.3, {}, [], "no extension predicts better", ["blocks 1"], plausible=["tonic_activation"]))
+    report = analyse(trials, subject, intervals=12, diagnose_model=True)
+    idf = report.identifiability
+    assert idf.model_alternatives == ["tonic_activation"] and "hull" in idf.uncertainty
+    assert set(idf.determined) <= set(plain.identifiability.determined) and idf.determined
+    for name in idf.determined:
+        lo, hi = idf.ci95[name]
+        plain_lo, plain_hi = plain.identifiability.ci95[name]
+        assert lo <= plain_lo + 1e-12 and hi >= plain_hi - 1e-12
