@@ -59,9 +59,9 @@ def test_a_plausible_model_beside_the_named_one_is_fitted_and_its_estimates_held
     """When the held-out test leaves a model plausible (better on every fold, by less than the margin), the report
     fits it and reports the hull of the intervals: every interval holds its own, and the parameters determined are
     those both models determine (the diagnosis stubbed: it names nothing and leaves a tonic activation plausible)."""
-    import analysis.pmp.model_diagnosis as md
-
     import dataclasses
+
+    import analysis.pmp.model_diagnosis as md
 
     _, trials, subject = simulated_subject(11, ("knee",))
     # the simulated subject's anthropometry is exact (the model made the trials): no measurement uncertainty
