@@ -62,8 +62,8 @@ CANDIDATES = ["end_range_structures", "tonic_activation", "knee_tendon_complianc
 #: systematic part, "determined" an interval within ±3.5 %, a third extension beside a named pair; development of
 #: these used 50000–50502; 16000– the extended refit from three starts (the plain fit, the generic model, the
 #: diagnosis's fit) keeping the lowest objective, and a larger model's folds started from the smaller one's too;
-#: developed on 15300–15309, the compliant-tendon subjects of the 15000– run (16000– measured that step, stopped at
-#: 5 subjects per variant); 17000– the intervals holding the estimates under plausible models (better on every
+#: developed on 15300–15309, the compliant-tendon subjects of the 15000– run (16000– measured that step);
+#: 17000– the intervals holding the estimates under plausible models (better on every
 #: held-out fold by less than the margin), developed on 16301 and 15000–15500)
 SEED_BASE = 17000
 SUBJECTS_PER_VARIANT = 10
