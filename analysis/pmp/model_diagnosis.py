@@ -518,7 +518,7 @@ WholeRule = tuple[dict[str, float], float, bool] | None
 #: offsets by label (SI)
 FitStart = tuple[dict[str, float], tuple[float, ...], dict[str, float]]
 #: the starts of a job's fits: per fold, then for the fit on every trial, the starts to try (None in a list: the plain
-#: fit's parameters and the extension's own start; the fit of lowest cost is kept); None: that default start only
+#: fit's parameters and the extension's own start; the fit of lowest objective is kept); None: that default start only
 JobStarts = tuple[list[list[FitStart | None]], list[FitStart | None]] | None
 FitJob = tuple[str | None, list[Fold], WholeRule, JobStarts]
 #: what a job returns: per fold (held-out RMSE N·m, the extension's parameters, the fit's values as a start), and
@@ -527,7 +527,7 @@ FitOutcome = tuple[list[tuple[float, dict[str, float], FitStart]],
                    tuple[dict[str, float], dict[str, float], FitStart] | None]
 
 
-def _found(fit: PmpResult, ext: Extension | None) -> FitStart:
+def found_start(fit: PmpResult, ext: Extension | None) -> FitStart:
     """A fit's values as a start for a larger model's fit."""
     values = tuple(float(fit.extension_parameters[n]) for n in ext.parameters) if ext is not None else ()
     return dict(fit.parameters), values, dict(fit.set_angle_offsets_rad)
@@ -587,7 +587,7 @@ def _key_fits(job: FitJob, context: dict[str, Any] | None = None) -> FitOutcome:
 
     def best_fit(tries: list[FitStart | None], fitted: list[int], held: list[list[tuple[float, float]]] | None
                  ) -> PmpResult:
-        # the same data from each start: the converged fit of lowest cost (the problem has several basins)
+        # the same data from each start: the converged fit of lowest objective (the problem has several basins)
         fits = [fit_from(start, fitted, held) for start in tries]
         return min((f for f in fits if f.success), key=lambda f: f.objective, default=fits[0])
 
@@ -595,14 +595,14 @@ def _key_fits(job: FitJob, context: dict[str, Any] | None = None) -> FitOutcome:
     for fold, tries in zip(folds, fold_starts, strict=True):
         held = [list(win) for win in fold.held_out_s] if fold.held_out_s is not None else None
         fit = best_fit(tries, list(fold.fitted), held)
-        out.append((_heldout_rms(fit, fold, w, ext), dict(fit.extension_parameters), _found(fit, ext)))
+        out.append((_heldout_rms(fit, fold, w, ext), dict(fit.extension_parameters), found_start(fit, ext)))
     whole = None
     if rule is not None and key is not None:
         reference, below, every = rule
         ratio, all_better = fold_ratio({f.label: rms for f, (rms, _, _) in zip(folds, out)}, reference)
         if ratio < below and (all_better or not every):
             fit = best_fit(whole_starts, list(range(len(trials))), None)
-            whole = (dict(fit.extension_parameters), dict(fit.parameters), _found(fit, ext))
+            whole = (dict(fit.extension_parameters), dict(fit.parameters), found_start(fit, ext))
     return out, whole
 
 
@@ -777,8 +777,8 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
                 break
             # fitted whole only when it may be named (its folds better than the model so far's by the margin). The
             # problem has several basins: each fit starts from the plain fit and from where the model so far ended on
-            # the same data (the added extension at its start), and keeps the lower cost, so the larger model never
-            # ends above the smaller one's cost (from the plain fit alone, compliant tendons beside end-range
+            # the same data (the added extension at its start), and keeps the lower objective, so the larger model
+            # never ends above the smaller one's (from the plain fit alone, compliant tendons beside end-range
             # structures and a tone ended above the pair's cost and predicted the folds worse; from the smaller
             # model's alone, a tone beside end-range structures stayed in its basin)
             whole_so_far = full_fits.get(chosen.name)

@@ -278,7 +278,7 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
         # models the held-out test could not reject beside the named one: each fitted, and the intervals made to
         # hold the parameters' estimates under them (model uncertainty)
         from .identifiability import with_plausible_models
-        from .model_diagnosis import EXTENSIONS, JOIN, _found, fit_extended, nested_start
+        from .model_diagnosis import EXTENSIONS, JOIN, fit_extended, found_start, nested_start
 
         alternatives = []
         for name in model.plausible:
@@ -286,7 +286,7 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
             if progress is not None:
                 progress(f"fit with {name} (plausible beside the named model) ...")
             nested = fitted_extension is not None and name.startswith(fitted_extension.name + JOIN)
-            found = nested_start(_found(res, fitted_extension), EXTENSIONS[name.split(JOIN)[-1]]) if nested else None
+            found = nested_start(found_start(res, fitted_extension), EXTENSIONS[name.split(JOIN)[-1]]) if nested else None
             alt_res = fit_extended(trials, subject, alt_extension, leg=leg, intervals=intervals,
                                    plain=plain_res if extended is not None else res, found=found)
             alternatives.append((name, alt_res, identifiability(alt_res, trials, subject, leg=leg,
