@@ -49,7 +49,7 @@ from .muscles import LegMuscles
 from .problem import estimate
 
 #: bumped when a change to the fit or the resampling changes results (invalidates stored results)
-METHOD_VERSION = "cohort-5"
+METHOD_VERSION = "cohort-6"  # cohort-6: the extended refit from two starts, the lower objective kept (c6723a1)
 #: half-width limit of a determined parameter's bootstrap interval (relative): the dissertation's 3.5 %
 DETERMINED_HALF_WIDTH_REL = 0.035
 #: shortest residual block of the sweep bootstrap (s)
