@@ -125,6 +125,10 @@ class Extension:
     def joint_angle(self, trial: PmpTrial, q: Any, p: list[Any]) -> Any:
         return self.angle(trial, q, p) if self.angle is not None else q
 
+    def start_values(self) -> tuple[float, ...]:
+        """Where a fit starts this extension's parameters (SI): ``start``, else 0 (no extension)."""
+        return tuple(self.start) if self.start is not None else (0.0,) * len(self.parameters)
+
     def smallest(self) -> tuple[float, ...]:
         """The smallest size of each parameter worth reporting (SI): ``material``, else MATERIAL_FRACTION × typical."""
         return tuple(self.material) if self.material is not None else tuple(MATERIAL_FRACTION * v for v in self.typical)
@@ -252,9 +256,6 @@ def combine(first: Extension, second: Extension) -> Extension:
         raise ValueError(f"{first.name} and {second.name} both map the joint's angle")
     n = len(first.parameters)
 
-    def start(e: Extension) -> tuple[float, ...]:
-        return tuple(e.start) if e.start is not None else (0.0,) * len(e.parameters)
-
     angle = None
     if first.angle is not None:
         angle = lambda t, q, p: first.joint_angle(t, q, p[:n])  # noqa: E731  # the first's map on its own parameters
@@ -265,7 +266,7 @@ def combine(first: Extension, second: Extension) -> Extension:
         first.parameters + second.parameters, first.typical + second.typical, first.lower + second.lower,
         first.upper + second.upper,
         lambda t, q, v, p, g: first.moment(t, q, v, p[:n], g) + second.moment(t, q, v, p[n:], g), angle,
-        first.smallest() + second.smallest(), start(first) + start(second),
+        first.smallest() + second.smallest(), first.start_values() + second.start_values(),
         tuple(first.sizes or first.parameters) + tuple(second.sizes or second.parameters),
         lambda t, p: {**first.muscle_options(t, p[:n]), **second.muscle_options(t, p[n:])})
 
@@ -401,9 +402,8 @@ def fit_extended(trials: list[PmpTrial], subject: Subject, extension: Extension,
     8.1 % off against an interval of ±3.2 %, the generic start's 0.2 %).
     """
     problem = build_problem(trials, subject, leg=leg, intervals=intervals, extension=extension)
-    starts: list[FitStart] = [(dict(plain.parameters), tuple(extension.start or (0.0,) * len(extension.parameters)),
-                               dict(plain.set_angle_offsets_rad)),
-                              (dict(plain.generic), tuple(extension.start or (0.0,) * len(extension.parameters)), {})]
+    starts: list[FitStart] = [(dict(plain.parameters), extension.start_values(), dict(plain.set_angle_offsets_rad)),
+                              (dict(plain.generic), extension.start_values(), {})]
     if found is not None and len(found[1]) == len(extension.parameters):
         starts.append(found)
     fits = []
@@ -537,7 +537,7 @@ def nested_start(found: FitStart, added: Extension) -> FitStart:
     """The start of a model with ``added`` beside the one that found ``found``: where that model ended, the added
     extension at its own start (≈ no effect), so the larger model starts at the smaller one's cost."""
     params, values, offsets = found
-    return params, values + tuple(added.start if added.start is not None else (0.0,) * len(added.parameters)), offsets
+    return params, values + added.start_values(), offsets
 
 
 def fold_ratio(errors: dict[str, float], reference: dict[str, float]) -> tuple[float, bool]:
@@ -574,7 +574,7 @@ def _key_fits(job: FitJob, context: dict[str, Any] | None = None) -> FitOutcome:
     shared = None
     if all(f.held_out_s is not None and len(f.fitted) == len(trials) for f in folds):
         shared = build_problem(trials, subject, leg=leg, intervals=w["intervals"], extension=ext, initial=w["initial"])
-    initial_ext = tuple(ext.start) if ext is not None and ext.start is not None else None
+    initial_ext = ext.start_values() if ext is not None else None
 
     def fit_from(start: FitStart | None, fitted: list[int], held: list[list[tuple[float, float]]] | None) -> PmpResult:
         if shared is not None:
