@@ -342,7 +342,9 @@ class ModelDiagnosis:
             ps = ", ".join(f"{k} = {v:.3g} [{c.ci95[k][0]:.3g}, {c.ci95[k][1]:.3g}]" for k, v in c.parameters.items()
                            if k in c.ci95)
             lines.append(f"  {c.name:<20}{c.heldout_rmse_nm:>13.3f} N·m{c.heldout_ratio:>8.2f}  {ps}"
-                         + ("  ← named" if c.named else ""))
+                         + ("  ← named" if c.named else "")
+                         + (f"  (stopped at {list(c.fold_rmse_nm)[-1]}: no better there than the model it extends)"
+                            if self.folds and 0 < len(c.fold_rmse_nm) < len(self.folds) else ""))
         if self.plausible:
             lines.append("  plausible beside it (better on every left-out fold, by less than the margin): "
                          + ", ".join(self.plausible) + "; the parameters' intervals hold their estimates under these too")
@@ -543,10 +545,12 @@ def nested_start(found: FitStart, added: Extension) -> FitStart:
 def fold_ratio(errors: dict[str, float], reference: dict[str, float]) -> tuple[float, bool]:
     """Geometric mean over the folds of the held-out RMSE ratio ``errors`` / ``reference`` (N·m by fold label), and
     whether every fold is better: one fold whose left-out blocks are badly extrapolated must not outweigh the
-    others. NaN and False when no reference fold has an error."""
-    ratios = [errors[f] / reference[f] for f in reference if reference[f] > 0]
-    return (float(np.exp(np.mean(np.log(ratios)))) if ratios else float("nan")), bool(ratios) and all(
-        r < 1.0 for r in ratios)
+    others. A candidate whose fits stopped at a worse fold (:func:`_key_fits`) has errors for the folds fitted only:
+    its ratio is over those, and not every fold is better. NaN and False when no reference fold has an error."""
+    judged = [f for f in reference if reference[f] > 0]
+    ratios = [errors[f] / reference[f] for f in judged if f in errors]
+    return (float(np.exp(np.mean(np.log(ratios)))) if ratios else float("nan")), bool(ratios) and len(ratios) == len(
+        judged) and all(r < 1.0 for r in ratios)
 
 
 def _heldout_rms(fit: PmpResult, fold: Fold, w: dict[str, Any], ext: Extension | None) -> float:
@@ -561,7 +565,11 @@ def _key_fits(job: FitJob, context: dict[str, Any] | None = None) -> FitOutcome:
     """One candidate fitted without each fold in turn, then on every trial when ``job``'s rule asks (its folds
     predict better than the reference's by the ratio). Block folds share one built problem (the held-out
     windows are its parameters: one build and one expansion serve every fold, each solved from the same
-    start, so the fits are those of separate builds); folds leaving out whole trials are built each."""
+    start, so the fits are those of separate builds); folds leaving out whole trials are built each.
+
+    When the rule asks every fold to be better, the folds stop at the first that is not: the candidate can then be
+    neither named nor plausible whatever the others give (the decision is the one all folds would give; the
+    outcome has fewer folds than ``folds``)."""
     key, folds, rule, starts = job
     w = _WORKER if context is None else context
     trials, subject, leg = w["trials"], w["subject"], w["leg"]
@@ -596,11 +604,13 @@ def _key_fits(job: FitJob, context: dict[str, Any] | None = None) -> FitOutcome:
         held = [list(win) for win in fold.held_out_s] if fold.held_out_s is not None else None
         fit = best_fit(tries, list(fold.fitted), held)
         out.append((_heldout_rms(fit, fold, w, ext), dict(fit.extension_parameters), found_start(fit, ext)))
+        if rule is not None and rule[2] and fold.label in rule[0] and not out[-1][0] < rule[0][fold.label]:
+            break  # not better on this fold: out of the running, the other folds would not change that
     whole = None
     if rule is not None and key is not None:
         reference, below, every = rule
         ratio, all_better = fold_ratio({f.label: rms for f, (rms, _, _) in zip(folds, out)}, reference)
-        if ratio < below and (all_better or not every):
+        if len(out) == len(folds) and ratio < below and (all_better or not every):
             fit = best_fit(whole_starts, list(range(len(trials))), None)
             whole = (dict(fit.extension_parameters), dict(fit.parameters), found_start(fit, ext))
     return out, whole
@@ -704,7 +714,7 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
         The others are reported with their folds' mean parameters."""
         jobs: list[FitJob] = [(key, folds, whole, (starts or {}).get(key or "none")) for key in keys]
         for key, (per_fold, full) in zip(keys, pool.fits(jobs), strict=True):
-            for fold, (rms, ext_params, found) in zip(folds, per_fold, strict=True):
+            for fold, (rms, ext_params, found) in zip(folds, per_fold):  # fewer when it stopped at a worse fold
                 heldout.setdefault(key or "none", {})[fold.label] = rms
                 fold_params.setdefault(key or "none", []).append(ext_params)
                 fold_found.setdefault(key or "none", []).append(found)
@@ -722,7 +732,7 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
             full_ext_params = {p: float(np.mean([fp[p] for fp in fold_params[ext.name]])) for p in ext.parameters}
             shift = {}
         ci = {}
-        for p in ext.parameters:
+        for p in ext.parameters if len(fold_params[ext.name]) == k else ():  # stopped at a worse fold: no jackknife
             vals = np.array([fp[p] for fp in fold_params[ext.name]])
             se = math.sqrt((k - 1) / k * float(np.sum((vals - vals.mean()) ** 2)))
             ci[p] = (full_ext_params[p] - t975 * se, full_ext_params[p] + t975 * se)
@@ -782,7 +792,12 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
             # structures and a tone ended above the pair's cost and predicted the folds worse; from the smaller
             # model's alone, a tone beside end-range structures stayed in its basin)
             whole_so_far = full_fits.get(chosen.name)
-            fit_folds(pool, [e.name for e in nexts], (dict(heldout[chosen.name]), max_heldout_ratio, True),
+            # submitted best single first: the likeliest to be fitted on every fold and whole, the longest job, so
+            # it does not start last on a worker (the order of the jobs changes no fit)
+            single_ratio = {f.name: f.heldout_ratio for f in singles}
+            order: list[str] = sorted((e.name for e in nexts), key=lambda n: single_ratio[n.split(JOIN)[-1]])
+            fit_folds(pool, list(order),
+                      (dict(heldout[chosen.name]), max_heldout_ratio, True),
                       {e.name: ([[None, nested_start(f, EXTENSIONS[e.name.split(JOIN)[-1]])]
                                  for f in fold_found[chosen.name]],
                                 [None] + ([nested_start(whole_so_far[2], EXTENSIONS[e.name.split(JOIN)[-1]])]

@@ -267,3 +267,42 @@ def test_intervals_hold_the_estimates_under_plausible_models_and_determined_need
     assert sorted(out.undetermined) == ["b", "c"] and out.model_alternatives == ["x+y"]
     assert "hull" in out.uncertainty and "x+y" in out.uncertainty
     assert with_plausible_models(named, fit({}), []) is named
+
+
+def test_a_larger_model_stops_at_the_first_fold_it_does_not_predict_better(monkeypatch) -> None:
+    """Forward selection asks every fold to be better than the model so far: the folds stop at the first that is
+    not (fold 2 of 4 here), no whole fit is made, the ratio is over the folds fitted and not every fold counts as
+    better; without that rule (the singles' step) every fold is fitted whatever it gives."""
+    import types
+
+    import analysis.pmp.model_diagnosis as md
+
+    truth, trials, subject = simulated_subject(11, ("knee",))
+    folds = held_out_folds(trials)
+    assert len(folds) == BLOCK_FOLDS
+    reference = {f.label: 1.0 for f in folds}
+    errors = dict(zip((f.label for f in folds), (0.8, 1.1, 0.7, 0.7)))
+    solved: list[int] = []
+
+    class Problem:
+        def leave_out(self, held: object) -> None: ...
+
+        def start_at(self, *start: object) -> None: ...
+
+    def solve(problem: object) -> object:
+        solved.append(1)
+        return types.SimpleNamespace(success=True, objective=1.0, parameters={"m": 1.0},
+                                     extension_parameters=dict.fromkeys(EXTENSIONS["tonic_activation"].parameters, 0.01),
+                                     set_angle_offsets_rad={})
+
+    monkeypatch.setattr(md, "build_problem", lambda *a, **k: Problem())
+    monkeypatch.setattr(md, "solve", solve)
+    monkeypatch.setattr(md, "_heldout_rms", lambda fit, fold, w, ext: errors[fold.label])
+    context = {"trials": trials, "subject": subject, "leg": LegMuscles(), "intervals": 6, "initial": {}}
+    out, whole = md._key_fits(("tonic_activation", folds, (reference, 0.9, True), None), context)
+    assert [rms for rms, _, _ in out] == [0.8, 1.1] and whole is None and len(solved) == 2
+    ratio, every = md.fold_ratio({f.label: rms for f, (rms, _, _) in zip(folds, out)}, reference)
+    assert not every and ratio == pytest.approx(np.sqrt(0.8 * 1.1))
+    solved.clear()
+    out, whole = md._key_fits(("tonic_activation", folds, (reference, 1.1, False), None), context)
+    assert len(out) == BLOCK_FOLDS and whole is not None and len(solved) == BLOCK_FOLDS + 1
