@@ -49,7 +49,7 @@ from .muscles import LegMuscles
 from .problem import estimate
 
 #: bumped when a change to the fit or the resampling changes results (invalidates stored results)
-METHOD_VERSION = "cohort-6"  # cohort-6: the extended refit from two starts, the lower objective kept (c6723a1)
+METHOD_VERSION = "cohort-7"  # cohort-7: the refit also from the diagnosis's fit, plausible models in the intervals
 #: half-width limit of a determined parameter's bootstrap interval (relative): the dissertation's 3.5 %
 DETERMINED_HALF_WIDTH_REL = 0.035
 #: shortest residual block of the sweep bootstrap (s)
@@ -120,7 +120,8 @@ def run_fit_task(task: FitTask) -> dict[str, Any]:
     bootstrap needs: the identifiability analysis, the forward-dynamics errors per trial and the
     fitted torque of every trial.
     """
-    from .model_diagnosis import diagnose_model, fit_extended, get_extension, predict_torque_nm
+    from .identifiability import with_plausible_models
+    from .model_diagnosis import diagnose_model, fit_extended, fit_plausible, get_extension, predict_torque_nm
     from .verify import forward_dynamics
 
     started = time.perf_counter()
@@ -138,8 +139,10 @@ def run_fit_task(task: FitTask) -> dict[str, Any]:
     if extension is None:
         res = plain if diagnosis is not None else estimate(task.trials, task.subject, leg=leg,
                                                            intervals=task.intervals, initial=task.initial)
-    elif task.replicate == 0:  # from the plain fit, as the single-subject report refits
-        res = fit_extended(task.trials, task.subject, extension, leg=leg, intervals=task.intervals, plain=plain)
+    elif task.replicate == 0:  # as the single-subject report refits: from the plain fit, the generic model and
+        # the diagnosis's own fit of the named model
+        res = fit_extended(task.trials, task.subject, extension, leg=leg, intervals=task.intervals, plain=plain,
+                           found=diagnosis.named_fit if diagnosis is not None else None)
     else:  # a resample, from the subject's extended fit
         res = estimate(task.trials, task.subject, leg=leg, intervals=task.intervals, initial=task.initial,
                        extension=extension)
@@ -153,12 +156,19 @@ def run_fit_task(task: FitTask) -> dict[str, Any]:
     }
     if diagnosis is not None:
         out["model_diagnosis"] = {"cause": diagnosis.cause, "message": diagnosis.message,
-                                  "conclusive": diagnosis.conclusive, "ambiguous_with": list(diagnosis.ambiguous_with)}
+                                  "conclusive": diagnosis.conclusive, "ambiguous_with": list(diagnosis.ambiguous_with),
+                                  "plausible": list(diagnosis.plausible)}
     if task.replicate == 0:
         idf = identifiability(res, task.trials, task.subject, leg=leg, extension=extension)
+        if diagnosis is not None and diagnosis.plausible:  # model uncertainty, as the single-subject report has it
+            alternatives = fit_plausible(task.trials, task.subject, diagnosis.plausible, leg=leg,
+                                         intervals=task.intervals, plain=plain, named=res, named_extension=extension)
+            idf = with_plausible_models(idf, res, [(n, r, identifiability(r, task.trials, task.subject, leg=leg,
+                                                                          extension=e)) for n, r, e in alternatives])
         out["identifiability"] = {k: getattr(idf, k) for k in ("determined", "undetermined", "ci95", "misfit_ratio",
                                                        "residual_rms_nm", "noise_nm", "not_determined_because",
-                                                       "at_bound", "model_error_bound_rel", "measurement_se_rel")}
+                                                       "at_bound", "model_error_bound_rel", "measurement_se_rel",
+                                                       "model_alternatives")}
         # the extended model simulated at the set angles its fit found, as the single-subject report does
         fd_trials = with_set_angles(task.trials, res.set_angle_offsets_rad) if extension is not None else task.trials
         fd = [forward_dynamics(t, task.subject, res.parameters, leg=leg, extension=extension,
@@ -231,6 +241,10 @@ def subject_summary(main: dict[str, Any], replicates: list[dict[str, Any]],
     determined_fit = set(main.get("identifiability", {}).get("determined", []))
     bias_rel = main.get("identifiability", {}).get("model_error_bound_rel", {})
     measured_rel = main.get("identifiability", {}).get("measurement_se_rel", {})
+    # with plausible models beside the named one, the fit's interval is the hull of the models' (model uncertainty,
+    # identifiability.with_plausible_models): the bootstrap's, drawn about the named model only, is widened to hold it
+    hull = main.get("identifiability", {}).get("ci95", {}) if main.get("identifiability", {}).get(
+        "model_alternatives") else {}
     rows: dict[str, Any] = {}
     for name, value in main["parameters"].items():
         draws = np.array([r["parameters"][name] for r in ok])
@@ -240,7 +254,11 @@ def subject_summary(main: dict[str, Any], replicates: list[dict[str, Any]],
             sd = float(np.std(draws, ddof=1))
             measured = 1.96 * float(measured_rel.get(name, 0.0)) * abs(value)
             half = math.hypot(float(stats.t.ppf(0.975, draws.size - 1)) * sd, measured) + bias
-            row.update(sd=sd, ci95=[value - half, value + half],
+            lo, hi = value - half, value + half
+            if name in hull:
+                lo, hi = min(lo, hull[name][0]), max(hi, hull[name][1])
+                half = max(value - lo, hi - value)
+            row.update(sd=sd, ci95=[lo, hi],
                        percentile95=[float(np.percentile(draws, 2.5)), float(np.percentile(draws, 97.5))])
             row["determined"] = bool(main["success"] and name in determined_fit
                                      and half <= DETERMINED_HALF_WIDTH_REL * abs(value))

@@ -415,6 +415,25 @@ def fit_extended(trials: list[PmpTrial], subject: Subject, extension: Extension,
     return min((f for f in fits if f.success), key=lambda f: f.objective, default=fits[0])
 
 
+def fit_plausible(trials: list[PmpTrial], subject: Subject, plausible: list[str], *, leg: LegMuscles, intervals: int,
+                  plain: PmpResult, named: PmpResult, named_extension: Extension | None,
+                  progress: Callable[[str], None] | None = None) -> list[tuple[str, PmpResult, Extension]]:
+    """Each model the diagnosis kept as plausible beside the named one (:attr:`ModelDiagnosis.plausible`), fitted on
+    every trial as the named one is (:func:`fit_extended`); one that adds an extension to the named model also from
+    where the named model's fit ``named`` ended (the added extension at its own start). (name, fit, extension)
+    each, for :func:`analysis.pmp.identifiability.with_plausible_models`."""
+    out = []
+    for name in plausible:
+        extension = get_extension(name)
+        if progress is not None:
+            progress(f"fit with {name} (plausible beside the named model) ...")
+        nested = named_extension is not None and name.startswith(named_extension.name + JOIN)
+        found = nested_start(found_start(named, named_extension), EXTENSIONS[name.split(JOIN)[-1]]) if nested else None
+        out.append((name, fit_extended(trials, subject, extension, leg=leg, intervals=intervals, plain=plain,
+                                       found=found), extension))
+    return out
+
+
 def _condition(trial: PmpTrial) -> str:
     fixed = ", ".join(f"{k} {math.degrees(v):.0f}°" for k, v in sorted(trial.fixed_rad.items()))
     return f"{trial.joint} ({fixed})"

@@ -278,20 +278,13 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
         # models the held-out test could not reject beside the named one: each fitted, and the intervals made to
         # hold the parameters' estimates under them (model uncertainty)
         from .identifiability import with_plausible_models
-        from .model_diagnosis import EXTENSIONS, JOIN, fit_extended, found_start, nested_start
+        from .model_diagnosis import fit_plausible
 
-        alternatives = []
-        for name in model.plausible:
-            alt_extension = named_extension(name)
-            if progress is not None:
-                progress(f"fit with {name} (plausible beside the named model) ...")
-            nested = fitted_extension is not None and name.startswith(fitted_extension.name + JOIN)
-            found = nested_start(found_start(res, fitted_extension), EXTENSIONS[name.split(JOIN)[-1]]) if nested else None
-            alt_res = fit_extended(trials, subject, alt_extension, leg=leg, intervals=intervals,
-                                   plain=plain_res if extended is not None else res, found=found)
-            alternatives.append((name, alt_res, identifiability(alt_res, trials, subject, leg=leg,
-                                                                extension=alt_extension)))
-        idf = with_plausible_models(idf, res, alternatives)
+        alternatives = fit_plausible(trials, subject, model.plausible, leg=leg, intervals=intervals,
+                                     plain=plain_res if extended is not None else res, named=res,
+                                     named_extension=fitted_extension, progress=progress)
+        idf = with_plausible_models(idf, res, [(n, r, identifiability(r, trials, subject, leg=leg, extension=e))
+                                               for n, r, e in alternatives])
         if extended is not None:
             extended = dataclasses.replace(extended, determined=list(idf.determined))
     # the physiological quantities of the determined parameters only (Figures 3.15–3.17's, eq 3.13/3.16)

@@ -128,6 +128,23 @@ def test_the_measured_inputs_share_joins_the_bootstrap_in_quadrature() -> None:
     assert not plain["covered"] and row["covered"]  # a 1.2 % tape-driven error: outside without it, inside with it
 
 
+def test_with_plausible_models_the_interval_also_holds_the_models_hull() -> None:
+    """The bootstrap draws about the named model only; with plausible models beside it the fit's interval is their
+    hull (identifiability.with_plausible_models), and the subject's interval is widened to hold it: asymmetrically,
+    on the side the other model moves the estimate. Without model alternatives the fit's interval is not used."""
+    draws = [1.0, 1.002, 0.998, 1.001, 0.999]
+    reps = [{"success": True, "parameters": {"a.tendon_slack_length_m": d}} for d in draws]
+    main = _main(value=1.0)
+    main["identifiability"]["ci95"] = {"a.tendon_slack_length_m": [0.995, 1.02]}
+    alone = subject_summary(main, reps, truth={"a.tendon_slack_length_m": 1.015})["parameters"]["a.tendon_slack_length_m"]
+    main["identifiability"]["model_alternatives"] = ["tonic_activation+knee_tendon_compliance"]
+    row = subject_summary(main, reps, truth={"a.tendon_slack_length_m": 1.015})["parameters"]["a.tendon_slack_length_m"]
+    boot = stats.t.ppf(0.975, 4) * np.std(draws, ddof=1) + 0.001
+    assert alone["ci95"] == pytest.approx([1.0 - boot, 1.0 + boot]) and not alone["covered"]
+    assert row["ci95"] == pytest.approx([1.0 - boot, 1.02]) and row["covered"]
+    assert row["determined"] == bool(0.02 <= DETERMINED_HALF_WIDTH_REL)
+
+
 def test_a_wide_bootstrap_or_an_undetermined_fit_is_not_called_determined() -> None:
     wide = [{"success": True, "parameters": {"a.tendon_slack_length_m": d}} for d in (0.8, 1.2, 0.9, 1.1)]
     assert not subject_summary(_main(), wide)["parameters"]["a.tendon_slack_length_m"]["determined"]
@@ -168,3 +185,28 @@ def test_a_subject_fitted_with_an_extension_is_resampled_about_the_extended_mode
     summary = subject_summary(main, [again, again])
     assert summary["extension"] == "torque_offset" and "model_diagnosis" in summary
     assert "S01 with torque_offset (knee_offset_Nm" in text([summary])
+
+
+def test_a_diagnosed_subject_fits_the_plausible_models_into_its_intervals(monkeypatch) -> None:
+    """A study's subject fitted with the model-level diagnosis carries the models it left plausible as the
+    single-subject report does: fitted, named in the result, their estimates held by the fit's intervals (the
+    diagnosis stubbed: nothing named, a tonic activation plausible)."""
+    import dataclasses
+
+    import analysis.pmp.model_diagnosis as md
+    from analysis.pmp.cohort import run_fit_task
+    from analysis.pmp.synthetic import simulated_subject
+
+    _, trials, subject = simulated_subject(11, ("knee",))
+    subject = dataclasses.replace(subject, shank_length_sd_m=0.0, set_angle_sd_rad=0.0, mass_sd_kg=0.0)
+    monkeypatch.setattr(md, "diagnose_model", lambda *a, **k: md.ModelDiagnosis(
+        "none", 0.3, {}, [], "no extension predicts better", ["blocks 1"], plausible=["tonic_activation"]))
+    plain = run_fit_task(FitTask("S01", 0, trials, subject, 12))
+    out = run_fit_task(FitTask("S01", 0, trials, subject, 12, extension=DIAGNOSED))
+    assert out["model_diagnosis"]["plausible"] == ["tonic_activation"] and out["extension"] is None
+    idf = out["identifiability"]
+    assert idf["model_alternatives"] == ["tonic_activation"] and plain["identifiability"]["model_alternatives"] == []
+    assert set(idf["determined"]) <= set(plain["identifiability"]["determined"]) and idf["determined"]
+    for name in idf["determined"]:
+        assert idf["ci95"][name][0] <= plain["identifiability"]["ci95"][name][0] + 1e-12
+        assert idf["ci95"][name][1] >= plain["identifiability"]["ci95"][name][1] - 1e-12
