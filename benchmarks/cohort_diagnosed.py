@@ -10,8 +10,10 @@ with ``bootstrap`` refits per subject:
 * each subject diagnosed first (every extension of :data:`analysis.pmp.model_diagnosis.EXTENSIONS` fitted inside
   the estimator, judged by held-out blocks), then the subject and its resamples fitted with the named extension.
 
-The diagnosis's choice is not resampled (the intervals are conditional on it); measurement errors (tape, set
-angles) are carried by the fit's nuisances and priors in both runs.
+The diagnosis's choice is not resampled; models it left plausible beside the named one (better on every held-out
+fold by less than the naming margin) are fitted too and each interval widened to hold their intervals (the hull, as
+the single-subject report has it); measurement errors (tape, set angles) are carried by the fit's nuisances and
+priors in both runs.
 
 Keys: ``subjects``, ``bootstrap_per_subject``, ``named`` (per subject), ``named_right_rate`` (the subject's
 variant's expected extensions, as ``pmp_realistic`` scores them), ``determined_per_subject_median``
