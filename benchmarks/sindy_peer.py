@@ -131,6 +131,8 @@ def _fit(x: np.ndarray, y: np.ndarray, n_base: int, threshold: float) -> np.ndar
     from pysindy.optimizers import STLSQ
 
     sparse = list(range(n_base, x.shape[1]))
+    if not sparse:  # every candidate term left out (the baseline reproduces it): least squares on the baseline
+        return np.linalg.lstsq(x, y, rcond=None)[0]
     opt = STLSQ(threshold=threshold, alpha=1e-6, max_iter=20, sparse_ind=sparse, unbias=False)
     opt.fit(x, y.reshape(-1, 1))
     support = np.ones(x.shape[1], dtype=bool)
@@ -153,8 +155,10 @@ def diagnose_sparse(trial: DiagnosisTrial) -> PeerResult:
     y = y - y.mean()
     thresholds = THRESHOLD_FRACTIONS * float(np.std(y))
     fold = (np.floor((t - t[0]) / BLOCK_S).astype(int)) % FOLDS
-    errors = np.zeros((thresholds.size, FOLDS))
-    for j in range(FOLDS):
+    # a trial shorter than FOLDS blocks leaves some folds empty: the folds with samples only
+    present = [j for j in range(FOLDS) if np.any(fold == j)]
+    errors = np.zeros((thresholds.size, len(present)))
+    for col, j in enumerate(present):
         test, train = np.flatnonzero(fold == j), np.flatnonzero(fold != j)
         # a term with most of its energy in the held-out fold (a bump there) cannot be estimated from
         # the other folds: it is left out of this fold's fit (coefficient 0), not extrapolated
@@ -164,10 +168,10 @@ def diagnose_sparse(trial: DiagnosisTrial) -> PeerResult:
         for i, lam in enumerate(thresholds):
             coef = np.zeros(x.shape[1])
             coef[supported] = _fit(r_train, z_train, n_base, lam)
-            errors[i, j] = float(np.mean((y[test] - x[test] @ coef) ** 2))
+            errors[i, col] = float(np.mean((y[test] - x[test] @ coef) ** 2))
     mean = errors.mean(axis=1)
     best = int(np.argmin(mean))
-    se = float(errors[best].std(ddof=1) / np.sqrt(FOLDS))
+    se = float(errors[best].std(ddof=1) / np.sqrt(len(present))) if len(present) > 1 else 0.0
     best_1se = int(np.max(np.flatnonzero(mean <= mean[best] + se)))
 
     r_all, z_all = _compressed(x, y)

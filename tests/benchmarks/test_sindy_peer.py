@@ -28,3 +28,19 @@ def test_the_peer_names_a_large_effect_and_leaves_a_clean_trial_alone() -> None:
     g = generate("afo", (), 12)
     peer = diagnose_sparse(as_trial(g))
     assert peer_is_right(peer.named_1se, peer.untestable, g), sorted(peer.named_1se)
+
+
+def test_the_peer_answers_a_trial_shorter_than_its_folds_and_one_without_candidate_terms() -> None:
+    """A trial shorter than its five 2 s blocks leaves folds empty: the peer cross-validates over the folds with
+    samples; with no candidate term left (each reproduced by the baseline) it fits the baseline and names nothing."""
+    import dataclasses
+
+    g = generate("afo", ("viscous_damping",), 3)
+    short = g.time_s < g.time_s[0] + 6.0
+    trial = as_trial(dataclasses.replace(g, time_s=g.time_s[short], angle_rad=g.angle_rad[short],
+                                         torque_nm=g.torque_nm[short]))
+    peer = diagnose_sparse(trial)
+    assert np.isfinite(peer.threshold_nm) and np.isfinite(peer.threshold_1se_nm)
+    x, y, _, _, n_base = library(trial)
+    base_only = _fit(x[:, :n_base], y, n_base, 0.1)
+    np.testing.assert_allclose(base_only, np.linalg.lstsq(x[:, :n_base], y, rcond=None)[0])
