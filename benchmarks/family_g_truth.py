@@ -127,7 +127,7 @@ def _limb(kind: str, rad: np.ndarray, fixed: dict[str, float], mass: float, shan
     return np.zeros_like(rad), 0.0
 
 
-def _bessel_group_delay_s(cutoff_hz: float, rate: float) -> tuple[np.ndarray, np.ndarray, float]:
+def _bessel_low_pass(cutoff_hz: float, rate: float) -> tuple[np.ndarray, np.ndarray, float]:
     """A fourth-order Bessel low-pass (digital, at ``rate``): its coefficients and its group delay (s) at low
     frequency."""
     from scipy.signal import bessel, group_delay
@@ -256,7 +256,7 @@ def generate_g(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Famil
         from scipy.signal import lfilter, lfilter_zi
 
         transport, cutoff = float(rng.uniform(0.0, 0.5)), float(rng.uniform(3.0, 20.0))
-        b_f, a_f, filter_delay = _bessel_group_delay_s(cutoff, rate)
+        b_f, a_f, filter_delay = _bessel_low_pass(cutoff, rate)
         filtered = lfilter(b_f, a_f, torque, zi=lfilter_zi(b_f, a_f) * torque[0])[0]
         torque = np.interp(t - transport, t, filtered, left=filtered[0])
         truth["time_delay"] = transport + filter_delay

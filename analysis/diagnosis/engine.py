@@ -129,7 +129,6 @@ class _Search:
         self._ho: dict[str, np.ndarray] = {}
         self._flex: dict[str, CauseFit] = {}
         self._smooth: dict[str, tuple[CauseFit, np.ndarray]] = {}
-        self._flex_ho: dict[str, np.ndarray] = {}
         #: models whose stop passed every test against its reference but not against a smooth stiffening
         self.stops_not_told_from_smooth: set[str] = set()
 
@@ -157,8 +156,10 @@ class _Search:
         e = e[np.isfinite(e)]
         return float(np.sqrt(np.mean(e**2))) if e.size else float("nan")
 
-    def heldout_residuals(self, names: tuple[str, ...]) -> np.ndarray:
-        key = "+".join(names)
+    def heldout_residuals(self, names: tuple[str, ...], flexible: bool = False) -> np.ndarray:
+        """Held-out residuals (N·m) of the model ``names``; ``flexible``: on the flexible baseline, with the
+        nonlinear parameters of the plain baseline's fit."""
+        key = "+".join(names) + (" on the flexible baseline" if flexible else "")
         if key not in self._ho:
             cause, f = self.fit(names)
             # the nonlinear parameters (a stop's angle, a delay, a burst's timing, a friction width) are
@@ -166,7 +167,7 @@ class _Search:
             # `python -m benchmarks diagnosis --quick`: searching them again on each fold's training
             # blocks gave the same verdicts (singles 0.947, pairs 0.677, false alarms 0) at 3.1× the
             # time; re-searching singles only (not pairs) favoured pairs and lost 0.026 of the singles
-            self._ho[key] = heldout_residuals(self.prep, cause, self.folds,
+            self._ho[key] = heldout_residuals(self.flex if flexible else self.prep, cause, self.folds,
                                               None if len(names) == 1 and not f.nonlinear else f.nonlinear)
         return self._ho[key]
 
@@ -282,17 +283,9 @@ class _Search:
         # passive curve of another shape, which the spline follows (development trials of the second to fifth
         # families, seeds 800000–800002, 288 trials: six spurious stops beside another cause or alone no longer
         # named, 232 → 238 right, every true stop found still found; the development generator's unchanged)
-        flex_resid = self.flexible_heldout_residuals(tuple(n for n in model if n != "hard_stop"))
+        flex_resid = self.heldout_residuals(tuple(n for n in model if n != "hard_stop") or ("none",), flexible=True)
         ok = np.isfinite(resid) & np.isfinite(flex_resid)
         return bool(ok.sum() >= 10 and float(np.mean(resid[ok] ** 2)) < float(np.mean(flex_resid[ok] ** 2)))
-
-    def flexible_heldout_residuals(self, names: tuple[str, ...]) -> np.ndarray:
-        """Held-out residuals (N·m) of ``names`` (the plain baseline when empty) on the flexible baseline."""
-        key = "+".join(names) or "none"
-        if key not in self._flex_ho:
-            cause, f = self.fit(names or ("none",))
-            self._flex_ho[key] = heldout_residuals(self.flex, cause, self.folds, f.nonlinear or None)
-        return self._flex_ho[key]
 
     def stop_peak_to_noise(self, model: tuple[str, ...]) -> float:
         """The hard stop's largest torque in ``model`` (at the end of the range) over the model's residual RMS."""

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from benchmarks.family_g_truth import NOISE_SD_NM, _bessel_group_delay_s, _passive, generate_g
+from benchmarks.family_g_truth import NOISE_SD_NM, _bessel_low_pass, _passive, generate_g
 
 
 def test_the_bessel_filters_group_delay_is_what_a_step_shows() -> None:
@@ -14,7 +14,7 @@ def test_the_bessel_filters_group_delay_is_what_a_step_shows() -> None:
     from scipy.signal import lfilter
 
     rate = 500.0
-    b, a, delay = _bessel_group_delay_s(5.0, rate)
+    b, a, delay = _bessel_low_pass(5.0, rate)
     t = np.arange(5000) / rate
     ramp = t.copy()
     out = lfilter(b, a, ramp)
