@@ -54,6 +54,12 @@ DAHL_WIDTHS_RAD = np.deg2rad(np.geomspace(0.03, 3.0, 6))
 #: the relaxation times (s) of a viscoelastic (Maxwell-element) damping: soft tissue and an orthosis' plastic relax
 #: over tens of milliseconds to about a second; below the shortest the law is plain viscous damping
 RELAXATION_TIMES_S = np.geomspace(0.02, 1.0, 7)
+#: the saturation speeds of a shear-thinning damping, b·θ̇ / (1 + |θ̇|/v_s), as multiples of the trial's peak speed
+#: (the 95th percentile of |θ̇|). Tissue and lubricants resist less than in proportion to speed; the law spans
+#: plain viscous damping (v_s ≫ the peak: within 11 % of linear at 8×) to a torque that still rises at the peak
+#: (at half the peak its slope there is b/9). Below that it is a Coulomb friction of level b·v_s, the friction
+#: cause's. The range is the trial's own: a trial shows a law's curvature only within the speeds it moves at
+DAMPING_SATURATION_MULTIPLES = np.geomspace(0.5, 8.0, 7)
 #: rates (1/rad) of the baseline's stiffening exponentials at the (low, high) end of each joint's range.
 #: Passive joint moments are sums of such terms, steep at one end only: knee extension (Riener &
 #: Edrich 1999: 0.150 /° = 8.6 /rad; the hamstrings in this project's muscle model) and ankle
@@ -446,10 +452,24 @@ def relaxed_velocity(prep: Prepared, relaxation_s: float) -> np.ndarray:
     return np.asarray(lfilter([1.0 - a], [1.0, -a], prep.omega, zi=[a * prep.omega[0]])[0])
 
 
+def peak_speed_rad_s(prep: Prepared) -> float:
+    """The trial's peak angular speed (rad/s): the 95th percentile of |θ̇| (a spike of noise is not the peak)."""
+    return max(float(np.percentile(np.abs(prep.omega), 95.0)), 1e-6)
+
+
 def damping_cause(law: str) -> Cause:
-    """The damping cause: ``"viscous"`` (torque b·θ̇) or ``"viscous with relaxation"`` (a Maxwell element: b times
-    :func:`relaxed_velocity`, its relaxation time on the grid of :data:`RELAXATION_TIMES_S`). ``damping_Nm_s_per_rad``
-    is b, the damping at low speed, either way."""
+    """The damping cause: ``"viscous"`` (torque b·θ̇), ``"viscous with relaxation"`` (a Maxwell element: b times
+    :func:`relaxed_velocity`, its relaxation time on the grid of :data:`RELAXATION_TIMES_S`) or ``"viscous with
+    saturation"`` (shear-thinning: b·θ̇ / (1 + |θ̇|/v_s), v_s on :data:`DAMPING_SATURATION_MULTIPLES` of the trial's
+    peak speed). ``damping_Nm_s_per_rad`` is b, the damping at low speed, in each."""
+    if law == "viscous with saturation":
+        return Cause("viscous_damping", "torque growing with angular velocity, less than in proportion (shear-thinning)",
+                     ("afo", "knee", "ankle"),
+                     lambda p, nl: _plain(p, p.omega / (1.0 + np.abs(p.omega) / nl[0])),
+                     lambda c, nl: {"damping_Nm_s_per_rad": float(c[0]),
+                                    "saturation_speed_deg_s": float(np.rad2deg(nl[0]))},
+                     "damping_Nm_s_per_rad", lambda p: [DAMPING_SATURATION_MULTIPLES * peak_speed_rad_s(p)], signs=(1,),
+                     hysteretic=True, n_nonlinear=1)
     if law == "viscous":
         return Cause("viscous_damping", "torque proportional to angular velocity (hysteresis growing with speed)",
                      ("afo", "knee", "ankle"), lambda p, nl: _plain(p, p.omega),
@@ -511,10 +531,16 @@ LAW_VARIANTS: dict[str, dict[str, Callable[[], Cause]]] = {
                          **{f"{law} with Stribeck": functools.partial(friction_cause, law, True)
                             for law in (*FRICTION_LAWS, "dahl")}},
     "viscous_damping": {"viscous": functools.partial(damping_cause, "viscous"),
-                        "viscous with relaxation": functools.partial(damping_cause, "viscous with relaxation")},
+                        "viscous with relaxation": functools.partial(damping_cause, "viscous with relaxation"),
+                        "viscous with saturation": functools.partial(damping_cause, "viscous with saturation")},
     "sensor_drift": {"linear": functools.partial(drift_cause, "linear"),
                      "smooth": functools.partial(drift_cause, "smooth")},
 }
+
+#: laws that bend toward another cause's shape: (cause, law) → that cause. A damping saturating within the trial's
+#: speeds is close to a Coulomb friction beside a plain viscous damping; evidence.likeliest_law keeps the law only
+#: where it is the better account than the two causes together
+LAW_RIVALS: dict[str, dict[str, str]] = {"viscous_damping": {"viscous with saturation": "coulomb_friction"}}
 
 
 CAUSES: dict[str, Cause] = {c.name: c for c in [

@@ -12,6 +12,7 @@ import numpy as np
 from .causes import (
     ACCEL_WINDOWS_S,
     CAUSES,
+    LAW_RIVALS,
     LAW_VARIANTS,
     SHAPE_VARIANTS,
     Cause,
@@ -20,6 +21,7 @@ from .causes import (
     compound,
 )
 from .fitting import CauseFit, fit_cause
+from .policy import LAW_RIVAL_MIN_DELTA_BIC
 
 
 def parameter_se(prep: Prepared, cause: Cause, fit: CauseFit, n_eff: float) -> dict[str, float]:
@@ -101,7 +103,7 @@ class VariantFit:
     se: dict[str, float]
 
 
-def likeliest_law(prep: Prepared, cause_name: str) -> tuple[Cause, CauseFit]:
+def likeliest_law(prep: Prepared, cause_name: str, library: dict[str, Cause] | None = None) -> tuple[Cause, CauseFit]:
     """The law of ``cause_name`` (:data:`causes.LAW_VARIANTS`) with the lowest BIC beside the baseline on this
     trial (each at its best nonlinear parameters; every law judged at the effective sample size of the
     simplest law's residual), and that fit. The search then uses it.
@@ -111,6 +113,13 @@ def likeliest_law(prep: Prepared, cause_name: str) -> tuple[Cause, CauseFit]:
     sweep with friction alone (`diagnosis_wide` seed 11001) was named friction + damping (ΔBIC −25); with the
     arctan law, friction alone (its RSS 126.1 against tanh's 130.7 N·m²). A Stribeck peak after each reversal
     is what a burst or a delay would otherwise take. Drift: linear, or a smooth function of time.
+
+    A law that bends toward another cause's shape (:data:`causes.LAW_RIVALS`: a damping saturating within the
+    trial's speeds approaches a Coulomb friction) is the likeliest only if it also has a lower BIC than its
+    plain law beside that cause (by :data:`policy.LAW_RIVAL_MIN_DELTA_BIC`; ``library``: the causes by name, the
+    rival's likeliest law already chosen), the two judged at the effective sample size of the better one's
+    residual. Otherwise the two causes together are as good an account, and the search finds them as a pair
+    from the plain law.
     """
     laws = LAW_VARIANTS[cause_name]
     # the plain laws first; then the extensions of the likeliest one ("<law> with …"), each fitted once
@@ -130,6 +139,15 @@ def likeliest_law(prep: Prepared, cause_name: str) -> tuple[Cause, CauseFit]:
             cause = make()
             fitted[name] = (cause, fit_cause(prep, cause))
     chosen = best([n for n in fitted if n == plain or n.startswith(f"{plain} with ")])
+    rival = LAW_RIVALS.get(cause_name, {}).get(chosen)
+    if rival is not None and prep.trial.kind in (library or CAUSES)[rival].kinds:
+        pair = compound((library or CAUSES)[rival], laws[plain]())
+        a, b = pair.parts
+        pair_fit = fit_cause(prep, pair, start=fit_cause(prep, a).nonlinear + fit_cause(prep, b).nonlinear)
+        own = fitted[chosen][1]
+        common = effective_n(prep.torque - min((own, pair_fit), key=lambda f: f.rss / f.n).prediction)
+        if bic(own, common) > bic(pair_fit, common) - LAW_RIVAL_MIN_DELTA_BIC:
+            chosen = best([n for n in fitted if n != chosen and (n == plain or n.startswith(f"{plain} with "))])
     return fitted[chosen][0], fitted[chosen][1]
 
 
