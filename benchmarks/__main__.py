@@ -23,6 +23,7 @@ BENCHMARKS = {"drivers": "benchmarks.drivers", "pmp_opensim": "benchmarks.pmp_op
               "diagnosis_family_e": "benchmarks.diagnosis_family_e",
               "diagnosis_family_f": "benchmarks.diagnosis_family_f",
               "diagnosis_family_g": "benchmarks.diagnosis_family_g",
+              "diagnosis_family_h": "benchmarks.diagnosis_family_h",
               "sindy_peer_families": "benchmarks.sindy_peer_families",
               "pmp_realistic": "benchmarks.pmp_realistic", "lsl": "benchmarks.lsl",
               "pmp_speed": "benchmarks.pmp_speed", "pmp_segment_scales": "benchmarks.pmp_segment_scales"}

@@ -27,7 +27,15 @@ from typing import Any
 
 import numpy as np
 
-from . import family_b_truth, family_c_truth, family_d_truth, family_e_truth, family_f_truth, family_g_truth
+from . import (
+    family_b_truth,
+    family_c_truth,
+    family_d_truth,
+    family_e_truth,
+    family_f_truth,
+    family_g_truth,
+    family_h_truth,
+)
 from .family_b_truth import EFFECTS, FamilyBTrial
 
 #: the generator families this benchmark runs: the second (run once, frozen engine of 081911c; now the
@@ -37,7 +45,8 @@ FAMILIES = {"b": (family_b_truth.generate_b, family_b_truth.MAGNITUDE_KEY),
             "d": (family_d_truth.generate_d, family_d_truth.MAGNITUDE_KEY),
             "e": (family_e_truth.generate_e, family_e_truth.MAGNITUDE_KEY),
             "f": (family_f_truth.generate_f, family_f_truth.MAGNITUDE_KEY),
-            "g": (family_g_truth.generate_g, family_g_truth.MAGNITUDE_KEY)}
+            "g": (family_g_truth.generate_g, family_g_truth.MAGNITUDE_KEY),
+            "h": (family_h_truth.generate_h, family_h_truth.MAGNITUDE_KEY)}
 
 KINDS = ("afo", "knee", "ankle")
 #: pairs one trial cannot separate (the engine reports them ambiguous): not scored, as in benchmarks/diagnosis
