@@ -6,37 +6,38 @@ run. This one draws every cause from a law none of them or the engine's library 
 :mod:`benchmarks.family_b_truth`: effects, magnitude keys, the trial record).
 
 - Passive moment: collagen's toe-then-linear response at each end of a joint's range, a softplus
-  k·w·ln(1 + e^{(θ − θ_end)/w}) per end (linear far past the end, no exponential), plus a gentle linear term;
+  k·w·ln(1 + e^{(θ − θ_end)/w}) per end (linear far past the end: neither exponential nor the fifth family's
+  squared softplus), plus a gentle linear term;
   the end toward which a two-joint muscle is stretched moved by the other joint's angle. The AFO: a spring
   engaging through a softplus of 0.5–2° with a moment arm growing 0–20 % over the bend.
-- Motion: the dynamometer's trapezoidal velocity profile (an acceleration limit of 40–250 °/s², a speed of
-  3–30 °/s chosen anew for each stroke), holds of 0–0.8 s at the ends. The AFO: bends by hand as half-cosine
+- Motion: the dynamometer's jerk-limited (S-curve) velocity profile, its acceleration ramping at a jerk limit
+  of 300–2000 °/s³ up to 40–250 °/s², a speed of 3–30 °/s chosen anew for each stroke, with a velocity-loop
+  ripple of 0–8 % at 1–3 Hz while cruising; holds of 0–0.8 s at the ends. The AFO: bends by hand as half-cosine
   strokes (amplitude 10–20°, 0.6–2.5 s each way), held 0–0.5 s at the top.
 - Limb: segment fractions 4.65 % (shank, centre 43 % down from the knee) and 1.45 % (foot, centre 44 % of its
   length) of the body mass.
 - Causes, each sized so its largest torque is 3–5 × the noise SD (a delay and a compliance by their ranges):
-  * friction: a bearing with a tight spot, its level varying with angle, F₀·(1 + a·sin(2π(θ − φ)/P)) (a 0.2–0.5,
-    P 20–60°), times a saturated-linear law of the speed, clip(θ̇/v₀, −1, 1) (v₀ 0.2–1.5 °/s); magnitude: the
-    level's mean over the moving samples;
+  * friction: mixed lubrication, a level reached as the square root of the speed, F·sign(θ̇)·min(1, √(|θ̇|/v₀))
+    (v₀ 0.5–4 °/s); magnitude: F;
   * damping: a Carreau viscosity, b·θ̇·(1 + (θ̇/v_c)²)^((n − 1)/2) (n 0.3–0.8, v_c 4–40 °/s); magnitude: b (its
     low-speed value);
-  * stop: a two-stage pad, a soft pad 1–4° thick (k₁) backed by a hard stop (k₂ = 5–20·k₁), anywhere in the
-    last third of either end of a joint's range (the AFO's at the top of its bend); named only;
-  * delay: a transport delay of 0–0.5 s behind a second-order Butterworth low-pass (cut-off 2–15 Hz);
-    magnitude: the transport delay plus the filter's group delay at low frequency;
-  * activation: a stretch reflex, fired when the stretching speed first passes a threshold after a random time,
-    an alpha-function twitch (t/τ)·e^{1 − t/τ} (τ 0.05–0.25 s) summed over 1–3 firings 0.1–0.3 s apart;
-    magnitude: the torque's peak;
-  * limb-weight error: a centre of mass off the segment's axis by an angle of 5–30° (either side) and a mass
-    error, a moment ∝ cos(θ + φ); magnitude: its peak;
-  * drift: a load cell's logarithmic creep, a·ln(1 + t/τ_c) (τ_c 1–20 s), on a slow thermal swing; named only;
-  * series compliance: a strap whose slack is taken up, give g₀·tanh(τ/τ₀) (the give saturating at g₀ 0.5–3°);
-    magnitude: its compliance at no load, g₀/τ₀ (°/N·m);
-  * inertia error: a balanced attachment on the arm, ΔI·θ̈ (no weight moment); magnitude ΔI.
-- Nuisances: 100–2000 Hz; AR(1) noise (ρ 0–0.9); single-sample electrical spikes (none to three of 4–8 × the
-  noise SD) in half the trials; quantised torque and angle; the clock fast or slow by up to 0.03 % with jitter;
-  dropped rows singly (0–1.5 %) and in runs; NaN cells in any column (≤ 0.4 %, time included); torque and angle
-  offsets.
+  * stop: a hardening bumper with a linear onset, k·(δ + δ³/δ_c²) (δ_c 2–6°), anywhere in the last third of
+    either end of a joint's range (the AFO's at the top of its bend); named only;
+  * delay: a transport delay of 0–0.5 s behind a zero-order hold (the torque amplifier updating at 10–40 Hz,
+    read at the recording's rate); magnitude: the transport delay plus half the hold period;
+  * activation: clonus, 3–8 beats at 5–8 Hz, each a rectified half-sine, under an envelope rising over one beat
+    and decaying over 0.2–0.8 s; magnitude: the torque's peak;
+  * limb-weight error: a cast or weight on the segment the sidecar does not know of (its moment ∝ the segment's
+    orientation, its inertia m·r² in the torque too: a mass never comes without it); magnitude: the weight
+    moment's peak;
+  * drift: a strain-gauge zero creeping with the load it carries, 2–6 % of the torque through a first-order lag
+    of 5–30 s, plus a linear creep; named only;
+  * series compliance: a cuff over soft tissue, a standard linear solid: an instant give c_i·τ and a delayed one
+    c_d·τ creeping in over 0.5–3 s (c_i 60–85 % of the total); magnitude: the total static compliance (°/N·m);
+  * inertia error: the rig arm's inertia entered wrong in the sidecar, ΔI·θ̈; magnitude ΔI.
+- Nuisances: 100–2000 Hz; AR(1) noise (ρ 0–0.9) plus 0–2 bursts of interference (20–100 ms of 8–30 Hz at
+  2–3 × the noise SD); quantised torque and angle; the clock fast or slow by up to 0.03 % with jitter; dropped
+  rows singly (0–1.5 %) and in runs; NaN cells in any column (≤ 0.4 %, time included); torque and angle offsets.
 
 Angles in degrees at the edges, SI in the returned arrays.
 """
@@ -59,29 +60,43 @@ def _softplus(x: np.ndarray) -> np.ndarray:
     return np.logaddexp(0.0, x)
 
 
-def _trapezoid_strokes(rng: np.random.Generator, lo: float, hi: float, rate: float) -> tuple[np.ndarray, np.ndarray]:
-    """Strokes (deg) between ``lo`` and ``hi`` at a trapezoidal velocity profile, and the angular acceleration
-    (deg/s²) the profile commands (piecewise constant)."""
-    accel = float(rng.uniform(40.0, 250.0))
+def _s_curve_strokes(rng: np.random.Generator, lo: float, hi: float, rate: float) -> tuple[np.ndarray, np.ndarray]:
+    """Strokes (deg) between ``lo`` and ``hi`` on a jerk-limited (S-curve) velocity profile with a velocity-loop
+    ripple while cruising, and the angular acceleration (deg/s²) of the profile."""
+    accel, jerk = float(rng.uniform(40.0, 250.0)), float(rng.uniform(300.0, 2000.0))
+    ripple, ripple_hz = float(rng.uniform(0.0, 0.08)), float(rng.uniform(1.0, 3.0))
     dt = 1.0 / rate
     hold0 = np.full(int(rng.uniform(0.2, 0.8) * rate), lo)
     angles, accs = [hold0], [np.zeros(hold0.size)]
     start = lo
     for stroke in range(2 * int(rng.integers(2, 5))):
         end = hi if stroke % 2 == 0 else lo
-        speed = float(rng.uniform(3.0, 30.0))
         dist = abs(end - start)
-        ramp = speed / accel
-        if accel * ramp**2 > dist:  # a triangle: the stroke is too short to reach the speed
-            ramp = float(np.sqrt(dist / accel))
-            speed = accel * ramp
-        cruise = max(dist - accel * ramp**2, 0.0) / speed
-        total = 2.0 * ramp + cruise
-        s = np.arange(0.0, total, dt)
-        pos = np.where(s < ramp, 0.5 * accel * s**2,
-                       np.where(s < ramp + cruise, 0.5 * accel * ramp**2 + speed * (s - ramp),
-                                dist - 0.5 * accel * np.clip(total - s, 0.0, None) ** 2))
-        acc = np.where(s < ramp, accel, np.where(s < ramp + cruise, 0.0, -accel))
+        speed = float(rng.uniform(3.0, 30.0))
+        # the acceleration command: ramp up at the jerk limit, hold, ramp down, cruise, and the mirror image; the
+        # speed is lowered until the stroke fits
+        for _ in range(60):
+            a_peak = min(accel, float(np.sqrt(speed * jerk)))
+            t_j = a_peak / jerk
+            t_a = max(speed / a_peak - t_j, 0.0)
+            ramp_dist = speed * (2.0 * t_j + t_a) / 2.0 * 2.0  # distance to reach the speed and to stop from it
+            if ramp_dist <= dist:
+                break
+            speed *= 0.9
+        s_acc = np.concatenate([np.linspace(0.0, a_peak, max(int(t_j * rate), 1)),
+                                np.full(int(t_a * rate), a_peak),
+                                np.linspace(a_peak, 0.0, max(int(t_j * rate), 1))])
+        v_ramp = np.cumsum(s_acc) * dt
+        d_ramp = float(np.sum(v_ramp) * dt)
+        cruise_n = max(int((dist - 2.0 * d_ramp) / max(v_ramp[-1], 1e-9) * rate), 0)
+        tt = np.arange(cruise_n) * dt
+        # the ripple fades in and out over the cruise (the velocity stays continuous where the ramps join)
+        fade = np.sin(np.pi * tt / max(cruise_n * dt, dt)) ** 2
+        cruise_v = v_ramp[-1] * (1.0 + ripple * fade * np.sin(2 * np.pi * ripple_hz * tt))
+        vel = np.concatenate([v_ramp, cruise_v, v_ramp[::-1]])
+        pos = np.cumsum(vel) * dt
+        pos = pos * dist / max(float(pos[-1]), 1e-9)  # land on the target (the ripple's and the grid's residue)
+        acc = np.gradient(np.gradient(pos, dt), dt)
         sign = 1.0 if end > start else -1.0
         hold = int(rng.uniform(0.0, 0.8) * rate)
         angles += [start + sign * pos, np.full(hold, end)]
@@ -162,34 +177,30 @@ def _limb(kind: str, rad: np.ndarray, fixed: dict[str, float], mass: float, shan
     return np.zeros_like(rad), 0.0
 
 
-def butterworth_low_pass(cutoff_hz: float, rate: float) -> tuple[np.ndarray, np.ndarray, float]:
-    """A second-order Butterworth low-pass (digital, at ``rate``): its coefficients and its group delay (s) at low
-    frequency."""
-    from scipy.signal import butter, group_delay
+def zero_order_hold(signal: np.ndarray, t: np.ndarray, update_hz: float, phase_s: float) -> np.ndarray:
+    """``signal`` (sampled at ``t``, s) as a device updating at ``update_hz`` shows it: each value held until the
+    next update (updates at phase_s + k / update_hz). Its low-frequency group delay is half the hold period."""
+    updates = phase_s + np.arange(0.0, float(t[-1]) + 1.0 / update_hz, 1.0 / update_hz)
+    held = np.interp(updates, t, signal)
+    index = np.clip(np.searchsorted(updates, t, side="right") - 1, 0, updates.size - 1)
+    return np.where(t >= updates[0], held[index], signal[0])
 
-    b, a = butter(2, min(cutoff_hz / (0.5 * rate), 0.9))
-    _, gd = group_delay((b, a), w=np.array([2 * np.pi * 0.05 / rate]))
-    return b, a, float(gd[0]) / rate
 
-
-def _reflex(rng: np.random.Generator, t: np.ndarray, stretch_speed: np.ndarray) -> tuple[np.ndarray, dict[str, Any]]:
-    """A stretch reflex's unit torque: 1–3 alpha-function twitches from the first time after a random moment that
-    the stretching speed passes a threshold (half the trial's top stretching speed)."""
-    top = float(np.max(stretch_speed))
-    after = float(rng.uniform(0.1, 0.6)) * float(t[-1])
-    crossing = np.flatnonzero((t > after) & (stretch_speed > 0.5 * top))
-    onset = float(t[crossing[0]]) if crossing.size else after
-    tau = float(rng.uniform(0.05, 0.25))
-    shape = np.zeros_like(t)
-    for k in range(int(rng.integers(1, 4))):
-        s = (t - onset - k * float(rng.uniform(0.1, 0.3))) / tau
-        shape += np.where(s > 0.0, np.clip(s, 0.0, None) * np.exp(1.0 - np.clip(s, 0.0, None)), 0.0)
-    return shape / max(float(shape.max()), 1e-12), {"reflex_onset_s": onset, "twitch_s": tau}
+def _clonus(rng: np.random.Generator, t: np.ndarray) -> tuple[np.ndarray, dict[str, Any]]:
+    """Clonus's unit torque (peak 1): 3–8 beats at 5–8 Hz, each a rectified half-sine, under an envelope rising
+    over one beat and decaying over 0.2–0.8 s, at a random time."""
+    beat_hz, beats, decay = float(rng.uniform(5.0, 8.0)), int(rng.integers(3, 9)), float(rng.uniform(0.2, 0.8))
+    onset = float(rng.uniform(0.15, 0.8)) * float(t[-1])
+    s = t - onset
+    on = (s >= 0.0) & (s <= beats / beat_hz)
+    envelope = np.clip(s * beat_hz, 0.0, 1.0) * np.exp(-np.clip(s - 1.0 / beat_hz, 0.0, None) / decay)
+    shape = np.where(on, envelope * np.clip(np.sin(2 * np.pi * beat_hz * s), 0.0, None), 0.0)
+    return shape / max(float(shape.max()), 1e-12), {"clonus_onset_s": onset, "clonus_hz": beat_hz, "beats": beats}
 
 
 def generate_h(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> FamilyBTrial:
     """One trial of ``kind`` hiding ``effects`` (names as :data:`EFFECTS`), drawn from ``seed``."""
-    from scipy.signal import lfilter, lfilter_zi
+    from scipy.signal import lfilter
 
     for e in effects:
         if e not in EFFECTS[kind]:
@@ -204,11 +215,11 @@ def generate_h(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Famil
     if kind == "knee":
         fixed = {"hip_flexion_deg": float(rng.choice([90.0, 55.0, 15.0])), "ankle_dorsiflexion_deg": 0.0}
         lo, hi = float(rng.uniform(3.0, 12.0)), float(rng.uniform(80.0, 95.0))
-        deg, acc_deg = _trapezoid_strokes(rng, lo, hi, rate)
+        deg, acc_deg = _s_curve_strokes(rng, lo, hi, rate)
     elif kind == "ankle":
         fixed = {"knee_flexion_deg": float(rng.choice([0.0, 45.0, 90.0])), "hip_flexion_deg": 90.0}
         lo, hi = float(rng.uniform(-32.0, -22.0)), float(rng.uniform(10.0, 20.0))
-        deg, acc_deg = _trapezoid_strokes(rng, lo, hi, rate)
+        deg, acc_deg = _s_curve_strokes(rng, lo, hi, rate)
     else:
         deg, acc_deg = _hand_bends(rng, rate)
         lo, hi = 0.0, float(deg.max())
@@ -226,37 +237,44 @@ def generate_h(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Famil
         return float(rng.uniform(3.0, 5.0)) * sd
 
     joint_deg = deg
-    if "series_compliance" in effects:  # the joint turns less than the arm by the strap's give
-        give_max, compliance = float(rng.uniform(0.5, 3.0)), float(rng.uniform(0.03, 0.2))
-        load_scale = give_max / compliance  # N·m: the give is compliance × torque at small loads
+    if "series_compliance" in effects:  # the joint turns less than the arm by the cuff's give
+        total, instant = float(rng.uniform(0.03, 0.2)), float(rng.uniform(0.6, 0.85))
+        creep_s = float(rng.uniform(0.5, 3.0))
+        a_creep = float(np.exp(-1.0 / (rate * creep_s)))
         give = np.zeros_like(deg)
         for _ in range(40):  # the give answers to the torque it lets through: iterate to the fixed point
-            give = give_max * np.tanh(_passive(kind, deg - give, fixed, coef, lo, hi) / load_scale)
+            load = _passive(kind, deg - give, fixed, coef, lo, hi)
+            delayed = lfilter([1.0 - a_creep], [1.0, -a_creep], load, zi=[a_creep * load[0]])[0]
+            give = total * (instant * load + (1.0 - instant) * delayed)
         joint_deg = deg - give
-        truth["series_compliance"] = compliance
-        details.update(give_max_deg=give_max)
+        truth["series_compliance"] = total
+        details.update(instant_share=instant, creep_s=creep_s)
     joint = np.radians(joint_deg)
     shank, foot = subject["shank_length_m"], subject["foot_length_m"]
     weight, inertia = _limb(kind, joint, fixed, subject["mass_kg"], shank, foot)
     passive = _passive(kind, joint_deg, fixed, coef, lo, hi)
     torque = passive + weight + inertia * acc
     if "gravity_error" in effects:
-        phi = float(rng.choice([-1.0, 1.0]) * rng.uniform(5.0, 30.0))
-        base = joint if kind == "knee" else joint + np.pi / 2 - np.radians(fixed["knee_flexion_deg"])
-        shape = -np.cos(base + np.radians(phi))
+        # a cast (knee: on the shank, 60–90 % of its length down) or a weight on the foot (ankle, 30–70 % of its
+        # length ahead of the joint, 0–3 cm above the sole line), its mass sized by the moment it makes
+        if kind == "knee":
+            r = float(rng.uniform(0.6, 0.9)) * shank
+            shape = -np.cos(joint)
+        else:
+            along, up = float(rng.uniform(0.3, 0.7)) * foot, float(rng.uniform(0.0, 0.03))
+            r = float(np.hypot(along, up))
+            shape = np.cos(joint + np.pi / 2 - np.radians(fixed["knee_flexion_deg"]) + np.arctan2(up, along))
         moment = size()
-        torque = torque + moment * shape / float(np.max(np.abs(shape)))
+        mass = moment / (GRAVITY * r * float(np.max(np.abs(shape))))
+        torque = torque + mass * GRAVITY * r * shape + mass * r**2 * acc
         truth["gravity_error"] = moment
-        details.update(com_offset_deg=phi)
+        details.update(unknown_mass_kg=mass, unknown_mass_at_m=r)
     if "coulomb_friction" in effects:
-        v0 = np.radians(float(rng.uniform(0.2, 1.5)))
-        wobble, period, phase = float(rng.uniform(0.2, 0.5)), float(rng.uniform(20.0, 60.0)), float(rng.uniform(0, 360))
-        level_shape = 1.0 + wobble * np.sin(2.0 * np.pi * (deg - phase) / period)
-        level = size() / float(np.max(level_shape))
-        torque = torque + level * level_shape * np.clip(vel / v0, -1.0, 1.0)
-        moving = np.abs(vel) > v0
-        truth["coulomb_friction"] = float(level * np.mean(level_shape[moving])) if moving.any() else float(level)
-        details.update(friction_v0_deg_s=float(np.degrees(v0)), wobble=wobble, wobble_period_deg=period)
+        v0 = np.radians(float(rng.uniform(0.5, 4.0)))
+        level = size()
+        torque = torque + level * np.sign(vel) * np.minimum(1.0, np.sqrt(np.abs(vel) / v0))
+        truth["coulomb_friction"] = level
+        details.update(friction_v0_deg_s=float(np.degrees(v0)))
     if "viscous_damping" in effects:
         n, v_c = float(rng.uniform(0.3, 0.8)), np.radians(float(rng.uniform(4.0, 40.0)))
         shape = vel * (1.0 + (vel / v_c) ** 2) ** ((n - 1.0) / 2.0)
@@ -273,40 +291,39 @@ def generate_h(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Famil
         depth = float(rng.uniform(0.04, 0.33))
         at = hi - depth * (hi - lo) if high else lo + depth * (hi - lo)
         pen = np.clip(deg - at, 0.0, None) if high else np.clip(at - deg, 0.0, None)
-        pad, hard = float(rng.uniform(1.0, 4.0)), float(rng.uniform(5.0, 20.0))
-        shape = np.where(pen < pad, pen, pad + hard * (pen - pad))
+        hardening = float(rng.uniform(2.0, 6.0))
+        shape = pen + pen**3 / hardening**2
         k = size() / max(float(shape.max()), 1e-12)
         torque = torque + (1.0 if high else -1.0) * k * shape
         truth["hard_stop"] = None
-        details.update(stop_deg=at, stop_end="high" if high else "low", pad_deg=pad, hard_over_soft=hard)
+        details.update(stop_deg=at, stop_end="high" if high else "low", hardening_deg=hardening)
     if "activation_burst" in effects:
-        # the stretched muscle: knee flexion stretches the quadriceps, ankle dorsiflexion the calf (both positive)
-        unit, info = _reflex(rng, t, np.clip(vel, 0.0, None))
+        unit, info = _clonus(rng, t)
         amp = size()
         torque = torque + amp * unit
         truth["activation_burst"] = amp
         details.update(info)
     if "sensor_drift" in effects:
-        tau_c = float(rng.uniform(1.0, 20.0))
-        creep = np.log1p(t / tau_c)
-        swing = float(rng.uniform(-0.4, 0.4)) * np.sin(np.pi * t / t[-1] * float(rng.uniform(0.5, 1.0)))
-        drift = float(rng.choice([-1.0, 1.0])) * creep / float(creep.max()) + swing
+        share, lag_s = float(rng.uniform(0.02, 0.06)), float(rng.uniform(5.0, 30.0))
+        a_lag = float(np.exp(-1.0 / (rate * lag_s)))
+        zero = share * lfilter([1.0 - a_lag], [1.0, -a_lag], torque, zi=[0.0])[0]
+        drift = zero + float(rng.uniform(-1.0, 1.0)) * float(np.max(np.abs(zero))) * t / t[-1]
         torque = torque + size() * drift / max(float(np.max(np.abs(drift))), 1e-12)
         truth["sensor_drift"] = None
-        details.update(creep_s=tau_c)
+        details.update(creep_share=share, creep_lag_s=lag_s)
     if "time_delay" in effects:
-        transport, cutoff = float(rng.uniform(0.0, 0.5)), float(rng.uniform(2.0, 15.0))
-        b_f, a_f, filter_delay = butterworth_low_pass(cutoff, rate)
-        filtered = lfilter(b_f, a_f, torque, zi=lfilter_zi(b_f, a_f) * torque[0])[0]
-        torque = np.interp(t - transport, t, filtered, left=filtered[0])
-        truth["time_delay"] = transport + filter_delay
-        details.update(transport_s=transport, cutoff_hz=cutoff, filter_delay_s=filter_delay)
+        transport, update_hz = float(rng.uniform(0.0, 0.5)), float(rng.uniform(10.0, 40.0))
+        held = zero_order_hold(torque, t, update_hz, float(rng.uniform(0.0, 1.0 / update_hz)))
+        torque = np.interp(t - transport, t, held, left=held[0])
+        truth["time_delay"] = transport + 0.5 / update_hz
+        details.update(transport_s=transport, update_hz=update_hz)
     white = rng.normal(0.0, sd * np.sqrt(1.0 - rho**2), t.size)
     noise = lfilter([1.0], [1.0, -rho], white, zi=[rho * rng.normal(0.0, sd)])[0]
+    for _ in range(int(rng.integers(0, 3))):  # interference: a phone, a motor starting nearby
+        at_s, dur, hz = float(rng.uniform(0.0, t[-1])), float(rng.uniform(0.02, 0.1)), float(rng.uniform(8.0, 30.0))
+        on = (t >= at_s) & (t < at_s + dur)
+        noise[on] += float(rng.uniform(2.0, 3.0)) * sd * np.sqrt(2.0) * np.sin(2 * np.pi * hz * (t[on] - at_s))
     torque = torque + noise + rng.uniform(-1.0, 1.0)
-    if rng.random() < 0.5:
-        for _ in range(int(rng.integers(0, 4))):
-            torque[int(rng.integers(0, t.size))] += float(rng.choice([-1.0, 1.0]) * rng.uniform(4.0, 8.0)) * sd
     quantum = float(rng.uniform(0.002, 0.015))
     torque = np.round(torque / quantum) * quantum
     angle_q = np.radians(float(rng.uniform(0.005, 0.04)))
@@ -323,4 +340,4 @@ def generate_h(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Famil
     return FamilyBTrial(kind, stamp, angle, torque, fixed, subject, {e: truth[e] for e in effects}, details)
 
 
-__all__ = ["EFFECTS", "MAGNITUDE_KEY", "NOISE_SD_NM", "FamilyBTrial", "butterworth_low_pass", "generate_h"]
+__all__ = ["EFFECTS", "MAGNITUDE_KEY", "NOISE_SD_NM", "FamilyBTrial", "generate_h", "zero_order_hold"]
