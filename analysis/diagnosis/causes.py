@@ -56,10 +56,12 @@ DAHL_WIDTHS_RAD = np.deg2rad(np.geomspace(0.03, 3.0, 6))
 RELAXATION_TIMES_S = np.geomspace(0.02, 1.0, 7)
 #: the saturation speeds of a shear-thinning damping, b·θ̇ / (1 + |θ̇|/v_s), as multiples of the trial's peak speed
 #: (the 95th percentile of |θ̇|). Tissue and lubricants resist less than in proportion to speed; the law spans
-#: plain viscous damping (v_s ≫ the peak: within 11 % of linear at 8×) to a torque that still rises at the peak
-#: (at half the peak its slope there is b/9). Below that it is a Coulomb friction of level b·v_s, the friction
-#: cause's. The range is the trial's own: a trial shows a law's curvature only within the speeds it moves at
-DAMPING_SATURATION_MULTIPLES = np.geomspace(0.5, 8.0, 7)
+#: plain viscous damping (v_s ≫ the peak: within 11 % of linear at 8×) to a torque half the linear one at the
+#: peak, still rising there (slope b/4). A law saturating below the peak is a Coulomb friction with a slow
+#: approach, the friction cause's: with the floor at half the peak, the first family's fast ankle sweep with an
+#: arctan friction (seed 11001) was named damping (the law at 16 °/s, peak 32 °/s). The range is the trial's own:
+#: a trial shows a law's curvature only within the speeds it moves at
+DAMPING_SATURATION_MULTIPLES = np.geomspace(1.0, 8.0, 7)
 #: rates (1/rad) of the baseline's stiffening exponentials at the (low, high) end of each joint's range.
 #: Passive joint moments are sums of such terms, steep at one end only: knee extension (Riener &
 #: Edrich 1999: 0.150 /° = 8.6 /rad; the hamstrings in this project's muscle model) and ankle

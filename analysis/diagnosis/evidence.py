@@ -34,6 +34,11 @@ def parameter_se(prep: Prepared, cause: Cause, fit: CauseFit, n_eff: float) -> d
     held fixed (as before), the 95 % intervals of friction amplitudes covered the independent
     generator's truth in 0.56–0.67 of trials and a knee stop's stiffness in 0.89 (seeds 140000–141001).
     Coefficients held at their physical bound (0) are held there.
+
+    Each variance is the larger of this model-based one and the cluster-robust sandwich's
+    (:func:`_block_sandwich`), which grows where the cause's law misses the data's shape. On development seeds
+    800000–800002 of the second to eighth families (259 scored magnitudes) the intervals held the truth 225 →
+    230 times (inertias beside a smoothed acceleration), no decision changed.
     """
     if cause.name == "none":
         return {}
@@ -58,9 +63,12 @@ def parameter_se(prep: Prepared, cause: Cause, fit: CauseFit, n_eff: float) -> d
     s2 = fit.rss / dof * (fit.n / n_eff)
     scale = np.maximum(np.abs(jac).max(axis=0), 1e-12)
     try:
-        cov = np.linalg.pinv((jac / scale).T @ (jac / scale)) / np.outer(scale, scale) * s2
+        bread = np.linalg.pinv((jac / scale).T @ (jac / scale))
     except np.linalg.LinAlgError:
         return {}
+    cov = bread / np.outer(scale, scale) * s2
+    robust = _block_sandwich(jac / scale, (prep.torque - fit.prediction)[valid], bread, fit.n / n_eff)
+    robust = None if robust is None else robust / np.outer(scale, scale)
     # the reported parameters' gradients with respect to (free extension coefficients, nonlinear parameters)
     n_ext = x.shape[1] - fit.n_base
     ext_free = [i for i in range(n_ext) if free[fit.n_base + i]]
@@ -83,8 +91,29 @@ def parameter_se(prep: Prepared, cause: Cause, fit: CauseFit, n_eff: float) -> d
     out = {}
     for k, g in grad.items():
         var = float(g @ cov @ g)
+        if robust is not None:
+            var = max(var, float(g @ robust @ g))
         out[k] = math.sqrt(var) if math.isfinite(var) and var > 0 else float("nan")
     return out
+
+
+def _block_sandwich(jac: np.ndarray, residual: np.ndarray, bread: np.ndarray, correlation_samples: float
+                    ) -> np.ndarray | None:
+    """The cluster-robust (sandwich) covariance B·M·B of least-squares estimates with Jacobian ``jac`` and
+    ``bread`` B = (JᵀJ)⁻¹: M sums (J_bᵀ r_b)(J_bᵀ r_b)ᵀ over contiguous blocks b of about twice the residual's
+    correlation time (``correlation_samples`` = n / n_eff samples), at least 20 blocks. Where the cause's law
+    is not the data's (a shape outside the library), the misfit is largest where the cause acts, and this
+    covariance grows with it where the model-based one, which assumes the residual is noise, does not."""
+    ok = np.isfinite(residual)
+    jac, residual = jac[ok], residual[ok]
+    n = residual.size
+    blocks = int(min(n / max(2.0 * correlation_samples, 1.0), n))
+    if blocks < 20:
+        return None
+    edges = np.linspace(0, n, blocks + 1).astype(int)
+    scores = np.add.reduceat(jac * residual[:, None], edges[:-1], axis=0)
+    meat = scores.T @ scores * blocks / max(blocks - 1, 1)
+    return bread @ meat @ bread
 
 
 #: rate (1/rad) of the steepest published passive term at a joint's gentle end: Riener & Edrich's

@@ -367,3 +367,24 @@ def test_a_saturating_damping_does_not_swallow_a_friction_beside_a_plain_damping
     named = [named_causes(diagnose(_trial(generate_b(kind, ("coulomb_friction", "viscous_damping"), seed))))
              for kind, seed in itertools.product(("knee", "ankle"), (820000, 820001, 820002))]
     assert sum(n == {"coulomb_friction", "viscous_damping"} for n in named) >= 5, named
+
+
+def test_the_sandwich_covariance_grows_with_a_misfit_where_the_regressor_acts_and_not_with_noise() -> None:
+    """A straight line fitted to data with a white residual: the block sandwich's variance of the slope is the
+    model-based one within sampling error. With an unmodelled curvature where the regressor is large (a shape the
+    law lacks), it is larger: the interval accounts for the misfit the model-based one calls noise."""
+    from analysis.diagnosis.evidence import _block_sandwich
+
+    rng = np.random.default_rng(0)
+    x = np.linspace(-1.0, 1.0, 4000)
+    jac = np.column_stack([np.ones_like(x), x])
+    bread = np.linalg.inv(jac.T @ jac)
+    for residual, larger in ((rng.normal(0.0, 0.1, x.size), False),
+                             (0.3 * np.sin(4.0 * np.pi * x) * np.abs(x) + rng.normal(0.0, 0.1, x.size), True)):
+        fitted = residual - jac @ (bread @ (jac.T @ residual))  # what least squares leaves of it
+        model = bread * float(fitted @ fitted) / (x.size - 2)
+        robust = _block_sandwich(jac, fitted, bread, 1.0)
+        assert robust is not None
+        ratio = robust[1, 1] / model[1, 1]
+        assert (ratio > 1.5) if larger else (0.7 < ratio < 1.4), ratio
+    assert _block_sandwich(jac[:30], np.zeros(30), bread, 1.0) is None  # too few blocks to estimate it
