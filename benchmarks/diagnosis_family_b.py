@@ -35,6 +35,7 @@ from . import (
     family_f_truth,
     family_g_truth,
     family_h_truth,
+    family_i_truth,
 )
 from .family_b_truth import EFFECTS, FamilyBTrial
 
@@ -46,7 +47,8 @@ FAMILIES = {"b": (family_b_truth.generate_b, family_b_truth.MAGNITUDE_KEY),
             "e": (family_e_truth.generate_e, family_e_truth.MAGNITUDE_KEY),
             "f": (family_f_truth.generate_f, family_f_truth.MAGNITUDE_KEY),
             "g": (family_g_truth.generate_g, family_g_truth.MAGNITUDE_KEY),
-            "h": (family_h_truth.generate_h, family_h_truth.MAGNITUDE_KEY)}
+            "h": (family_h_truth.generate_h, family_h_truth.MAGNITUDE_KEY),
+            "i": (family_i_truth.generate_i, family_i_truth.MAGNITUDE_KEY)}
 
 KINDS = ("afo", "knee", "ankle")
 #: pairs one trial cannot separate (the engine reports them ambiguous): not scored, as in benchmarks/diagnosis
