@@ -39,8 +39,9 @@ from . import (
 )
 from .family_b_truth import EFFECTS, FamilyBTrial
 
-#: the generator families this benchmark runs: the second (run once, frozen engine of 081911c; now the
-#: development family) and the third (:mod:`benchmarks.diagnosis_family_c`), same effects and scoring
+#: the generator families this harness runs, same effects and scoring: the second (run once on the frozen engine
+#: of 081911c, since development data) and the third to ninth (:mod:`benchmarks.diagnosis_family_c` …
+#: ``diagnosis_family_i``, each run once on its frozen engine)
 FAMILIES = {"b": (family_b_truth.generate_b, family_b_truth.MAGNITUDE_KEY),
             "c": (family_c_truth.generate_c, family_c_truth.MAGNITUDE_KEY),
             "d": (family_d_truth.generate_d, family_d_truth.MAGNITUDE_KEY),

@@ -362,7 +362,7 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
     search = _Search(prep, folds, min_delta_bic, min_heldout_gain, library)
     for n in LAW_VARIANTS:  # the search's friction and drift are the trial's likeliest laws, their fits already made
         if n in names:
-            library[n], search.fits[n] = likeliest_law(prep, n, library)
+            library[n], search.fits[n] = likeliest_law(prep, n, library, search.fits)
             search.causes[n] = library[n]
     for n in names:
         search.fit((n,))

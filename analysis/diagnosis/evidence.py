@@ -132,7 +132,8 @@ class VariantFit:
     se: dict[str, float]
 
 
-def likeliest_law(prep: Prepared, cause_name: str, library: dict[str, Cause] | None = None) -> tuple[Cause, CauseFit]:
+def likeliest_law(prep: Prepared, cause_name: str, library: dict[str, Cause] | None = None,
+                  fits: dict[str, CauseFit] | None = None) -> tuple[Cause, CauseFit]:
     """The law of ``cause_name`` (:data:`causes.LAW_VARIANTS`) with the lowest BIC beside the baseline on this
     trial (each at its best nonlinear parameters; every law judged at the effective sample size of the
     simplest law's residual), and that fit. The search then uses it.
@@ -146,9 +147,9 @@ def likeliest_law(prep: Prepared, cause_name: str, library: dict[str, Cause] | N
     A law that bends toward another cause's shape (:data:`causes.LAW_RIVALS`: a damping saturating within the
     trial's speeds approaches a Coulomb friction) is the likeliest only if it also has a lower BIC than its
     plain law beside that cause (by :data:`policy.LAW_RIVAL_MIN_DELTA_BIC`; ``library``: the causes by name, the
-    rival's likeliest law already chosen), the two judged at the effective sample size of the better one's
-    residual. Otherwise the two causes together are as good an account, and the search finds them as a pair
-    from the plain law.
+    rival's likeliest law already chosen, ``fits``: their fits where already made), the two judged at the
+    effective sample size of the better one's residual. Otherwise the two causes together are as good an
+    account, and the search finds them as a pair from the plain law.
     """
     laws = LAW_VARIANTS[cause_name]
     # the plain laws first; then the extensions of the likeliest one ("<law> with …"), each fitted once
@@ -170,9 +171,9 @@ def likeliest_law(prep: Prepared, cause_name: str, library: dict[str, Cause] | N
     chosen = best([n for n in fitted if n == plain or n.startswith(f"{plain} with ")])
     rival = LAW_RIVALS.get(cause_name, {}).get(chosen)
     if rival is not None and prep.trial.kind in (library or CAUSES)[rival].kinds:
-        pair = compound((library or CAUSES)[rival], laws[plain]())
-        a, b = pair.parts
-        pair_fit = fit_cause(prep, pair, start=fit_cause(prep, a).nonlinear + fit_cause(prep, b).nonlinear)
+        pair = compound((library or CAUSES)[rival], fitted[plain][0])
+        rival_fit = (fits or {}).get(rival) or fit_cause(prep, pair.parts[0])
+        pair_fit = fit_cause(prep, pair, start=rival_fit.nonlinear + fitted[plain][1].nonlinear)
         own = fitted[chosen][1]
         common = effective_n(prep.torque - min((own, pair_fit), key=lambda f: f.rss / f.n).prediction)
         if bic(own, common) > bic(pair_fit, common) - LAW_RIVAL_MIN_DELTA_BIC:

@@ -360,7 +360,8 @@ def test_a_saturating_damping_does_not_swallow_a_friction_beside_a_plain_damping
     """A saturating damping bends toward a Coulomb friction: it stands alone only with strong evidence over a
     friction beside a plain damping (policy.LAW_RIVAL_MIN_DELTA_BIC). The second family's friction + damping pairs
     (an arctan friction, a linear damping) on fresh seeds: both named in at least 5 of 6 knee and ankle trials (6 of
-    6 with the law and before it; with the law and no such test, development seeds lost 3 of 9 ankle pairs)."""
+    6 with the law and before it; with the law and no such test, development seeds 800000–800002 lost 7 of 54
+    friction + damping pairs, all three of this family's ankle pairs among them)."""
     from benchmarks.diagnosis_family_b import _trial
     from benchmarks.family_b_truth import generate_b
 
