@@ -483,12 +483,12 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
                      "rmse_Nm": math.sqrt(final.rss / final.n)})
     se = parameter_se(prep, final_cause, final, n_eff) if chosen else {}
     for name in chosen:
-        variants = magnitude_variants(prep, name, math.radians(final.params.get("stop_angle_deg", math.nan)))
-        if not variants:
+        key = CAUSES[name].magnitude_key
+        if not key or not (key in params or (also and key in also[0]["parameters"])):
             continue
+        variants = magnitude_variants(prep, name, math.radians(final.params.get("stop_angle_deg", math.nan)))
         # the magnitude: the variants' weighted mean; its variance: within plus between the variants
         fitted = average_variants(variants, chosen, n_eff, library)
-        key = CAUSES[name].magnitude_key
         mean = sum(o.weight * o.params[key] for o in fitted)
         var = sum(o.weight * (o.se.get(key, math.nan) ** 2 + (o.params[key] - mean) ** 2) for o in fitted)
         likeliest = max(fitted, key=lambda o: o.weight)
