@@ -90,9 +90,12 @@ def parameter_se(prep: Prepared, cause: Cause, fit: CauseFit, n_eff: float) -> d
             grad[k][idx_nl[j]] = (v - ref[k]) / h
     out = {}
     for k, g in grad.items():
-        var = float(g @ cov @ g)
-        if robust is not None:
-            var = max(var, float(g @ robust @ g))
+        # a reported quantity with no finite gradient (a series stiffness, 1/compliance, at zero compliance) has no
+        # standard error: NaN, without a warning per trial
+        with np.errstate(invalid="ignore", over="ignore"):
+            var = float(g @ cov @ g)
+            if robust is not None:
+                var = max(var, float(g @ robust @ g))
         out[k] = math.sqrt(var) if math.isfinite(var) and var > 0 else float("nan")
     return out
 
