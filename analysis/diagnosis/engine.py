@@ -497,7 +497,7 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
         se.update({k: v for k, v in likeliest.se.items() if k in holder},
                   **{key: math.sqrt(var) if math.isfinite(var) else math.nan})
         notes.append(f"{name}: {key} averaged over " + ", ".join(f"{o.label} ({o.weight:.2f})" for o in fitted)
-                     + f"; its other parameters are the {likeliest.label} fit's")
+                     + f"; its other parameters from the likeliest ({likeliest.label})")
     systematic = systematic_regions(prep, prep.torque - base.prediction, n_eff)
     ho_final = search.heldout(chosen) if chosen and not final_cause.transient else (base_ho if not chosen else float("nan"))
     delta = bic(final, n_eff) - bic(base, n_eff) if chosen else 0.0

@@ -207,7 +207,7 @@ def magnitude_variants(prep: Prepared, cause_name: str, stop_angle_rad: float = 
       the baseline alone an ankle stop's stiffness read 19 % high (median) and its intervals held the
       truth in 0.68 of trials: the stop took Riener's plantarflexion term.
     """
-    choices: list[tuple[str, Prepared, dict[str, Cause]]] = [("the cause alone", prep, {})]
+    choices: list[tuple[str, Prepared, dict[str, Cause]]] = [("", prep, {})]
     if cause_name == "inertia":
         choices = [(f"acceleration over {1000 * w:.0f} ms", Prepared.of(prep.trial, None, accel_window_s=w), {})
                    for w in ACCEL_WINDOWS_S]
@@ -219,8 +219,10 @@ def magnitude_variants(prep: Prepared, cause_name: str, stop_angle_rad: float = 
         end = "high" if stop_angle_rad >= 0.5 * (prep.lo + prep.hi) else "low"
         choices = [("hinge", prep, {}),
                    ("hinge beside a steeper end", prep.with_end_term(end, STEEP_END_RATE_PER_RAD), {})]
-    return choices + [(f"{label} on the flexible baseline", signals.as_flexible(), replaced)
-                      for label, signals, replaced in choices]
+    return ([(f"{label}, parametric baseline" if label else "parametric baseline", signals, replaced)
+             for label, signals, replaced in choices]
+            + [(f"{label}, flexible baseline" if label else "flexible baseline", signals.as_flexible(), replaced)
+               for label, signals, replaced in choices])
 
 
 def average_variants(variants: list[tuple[str, Prepared, dict[str, Cause]]], names: tuple[str, ...], n_eff: float,
