@@ -16,7 +16,7 @@ from ..errors import InputError
 from ..trial_csv import SUBJECT_RANGES, TrialTable
 from .estimator import MEASUREMENT_SD, PmpResult, PmpTrial, Subject, estimate, identifiability
 from .geometry import path_ranges_deg
-from .identifiability import Identifiability
+from .identifiability import SHAPE_ONLY_SHARE, Identifiability
 from .model import moment_function, with_set_angles
 from .muscles import COMPLIANT, LegMuscles
 from .stiffness import FIGURE_QUANTITIES, achilles_stiffness_kn_per_m, representative_values
@@ -373,6 +373,14 @@ def text(report: PmpReport, *, timings: bool = True) -> str:
 
             lines.append("  trade with the extension (determined by the plain model, not beside it): " + ", ".join(traded)
                          + "; " + protocol_to_separate(ext.extension))
+        shape_only = [n for n in idf.determined if idf.extension_share.get(n, 0.0) > SHAPE_ONLY_SHARE]
+        if shape_only:
+            from .model_diagnosis import protocol_to_separate
+
+            lines.append("  told from the extension by the curves' shapes only (its terms reproduce "
+                         + ", ".join(f"{100 * idf.extension_share[n]:.0f} % of {n}'s effect" for n in shape_only)
+                         + "): their intervals hold if the extension's shape is the structure's; "
+                         + protocol_to_separate(ext.extension))
     return "\n".join(lines)
 
 

@@ -49,6 +49,18 @@ def test_a_named_extension_is_fitted_directly_without_the_diagnosis() -> None:
     plain_text = text(dataclasses.replace(report, extended=None, identifiability=misfit))
     assert "next: the muscle model lacks something" in plain_text and "--diagnose-model" in plain_text
     assert "end range structures" in plain_text and "next:" not in text(dataclasses.replace(report, identifiability=misfit))
+    # how much of each parameter's effect the offset's terms reproduce (R²), every parameter's; one told from them by
+    # the curves' shapes only is said to be, with what would separate them
+    shares = report.identifiability.extension_share
+    assert set(shares) == set(report.result.parameters) and all(0.0 <= v <= 1.0 for v in shares.values())
+    assert max(shares.values()) > 0.0
+    assert "shapes only" not in text(report) or any(shares[n] > 0.9 for n in report.identifiability.determined)
+    if report.identifiability.determined:
+        name = report.identifiability.determined[0]
+        shape_only = dataclasses.replace(report.identifiability, extension_share={**shares, name: 0.95})
+        line = next(x for x in text(dataclasses.replace(report, identifiability=shape_only)).splitlines()
+                    if "shapes only" in x)
+        assert f"95 % of {name}'s effect" in line and "an offset needs a return sweep" in line
     # its share is drawn in every trial's torque panel and named in that panel's legend
     torque_panels = _fit_figure(report).axes[: len(offset)]
     assert all("torque_offset (its share)" in [t.get_text() for t in ax.get_legend().get_texts()]
