@@ -1,9 +1,10 @@
 """A sixth generator family for the diagnosis, written during the round after the fifth's run, run once after it froze.
 
-The second to fifth families (:mod:`benchmarks.family_b_truth` … ``family_e_truth``) became development data once
-run. This one draws every cause from a law none of them or the engine's library uses. Nothing is imported from
+The second to fifth families (:mod:`benchmarks.family_b_truth` … ``family_e_truth``) became development data once run.
+This one draws every cause from a law none of them or the engine's library uses. Nothing is imported from
 ``analysis``, nor any physics from the other generators (only the scoring contract of
-:mod:`benchmarks.family_b_truth`: effects, magnitude keys, the trial record).
+:mod:`benchmarks.family_b_truth`: effects, magnitude keys, the trial record; and the subject's draw of
+:mod:`benchmarks.family_scaffold`).
 
 - Passive moment: limiting-extensibility (Gent-like) stiffening at each end, k·x/(1 − (x/x_max)²) for x the
   angle past an onset (x_max 1.3–2.5 × the furthest x the sweep reaches), the onsets shifted by the other
@@ -47,6 +48,7 @@ import numpy as np
 # the scoring contract every family shares with the harness (benchmarks.diagnosis_family_b): the effects each kind
 # may hide, the engine's magnitude key per cause, the trial record; the physics below is this family's own
 from .family_b_truth import EFFECTS, MAGNITUDE_KEY, FamilyBTrial
+from .family_scaffold import draw_subject
 
 GRAVITY = 9.81
 NOISE_SD_NM = {"afo": 0.05, "knee": 0.18, "ankle": 0.1}
@@ -145,9 +147,7 @@ def generate_f(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Famil
     rng = np.random.default_rng([6, 6, 3, list(EFFECTS).index(kind), seed,
                                  *sorted(EFFECTS[kind].index(e) for e in effects)])
     rate = float(rng.choice([120.0, 240.0, 480.0, 1000.0]))
-    subject = {"mass_kg": float(rng.uniform(45.0, 110.0)), "height_m": float(rng.uniform(1.50, 2.00))}
-    subject["shank_length_m"] = 0.246 * subject["height_m"] * rng.uniform(0.95, 1.05)
-    subject["foot_length_m"] = 0.152 * subject["height_m"] * rng.uniform(0.95, 1.05)
+    subject = draw_subject(rng)
     fixed: dict[str, float] = {}
     if kind == "knee":
         fixed = {"hip_flexion_deg": float(rng.choice([90.0, 55.0, 15.0])), "ankle_dorsiflexion_deg": 0.0}

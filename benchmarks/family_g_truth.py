@@ -1,9 +1,10 @@
 """A seventh generator family for the diagnosis, written after the sixth's run and run once when the engine froze.
 
-The second to sixth families (:mod:`benchmarks.family_b_truth` … ``family_f_truth``) became development data once
-run. This one draws every cause from a law none of them or the engine's library uses. Nothing is imported from
+The second to sixth families (:mod:`benchmarks.family_b_truth` … ``family_f_truth``) became development data once run.
+This one draws every cause from a law none of them or the engine's library uses. Nothing is imported from
 ``analysis``, nor any physics from the other generators (only the scoring contract of
-:mod:`benchmarks.family_b_truth`: effects, magnitude keys, the trial record).
+:mod:`benchmarks.family_b_truth`: effects, magnitude keys, the trial record; and the subject's draw and the
+recording's damage of :mod:`benchmarks.family_scaffold`).
 
 - Passive moment: smooth everywhere, a hyperbolic sine about a neutral angle plus a cubic,
   A·sinh((θ − θ₀)/w) + C·((θ − θ₀)/w)³ (stiffening toward both ends without an onset; w 15–35°), θ₀ moved by the
@@ -47,6 +48,7 @@ import numpy as np
 # the scoring contract every family shares with the harness (benchmarks.diagnosis_family_b): the effects each kind
 # may hide, the engine's magnitude key per cause, the trial record; the physics below is this family's own
 from .family_b_truth import EFFECTS, MAGNITUDE_KEY, FamilyBTrial
+from .family_scaffold import damage_recording, draw_subject
 
 GRAVITY = 9.81
 NOISE_SD_NM = {"afo": 0.06, "knee": 0.2, "ankle": 0.12}
@@ -147,9 +149,7 @@ def generate_g(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Famil
     rng = np.random.default_rng([7, 7, 4, list(EFFECTS).index(kind), seed,
                                  *sorted(EFFECTS[kind].index(e) for e in effects)])
     rate = float(rng.choice([100.0, 200.0, 500.0, 1000.0, 1500.0]))
-    subject = {"mass_kg": float(rng.uniform(45.0, 110.0)), "height_m": float(rng.uniform(1.50, 2.00))}
-    subject["shank_length_m"] = 0.246 * subject["height_m"] * rng.uniform(0.95, 1.05)
-    subject["foot_length_m"] = 0.152 * subject["height_m"] * rng.uniform(0.95, 1.05)
+    subject = draw_subject(rng)
     fixed: dict[str, float] = {}
     if kind == "knee":
         fixed = {"hip_flexion_deg": float(rng.choice([90.0, 55.0, 15.0])), "ankle_dorsiflexion_deg": 0.0}
@@ -264,19 +264,9 @@ def generate_g(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Famil
     hum = rng.uniform(0.0, 0.6) * sd * np.sqrt(2.0) * np.sin(2 * np.pi * rng.uniform(8.0, 30.0) * t
                                                              + rng.uniform(0, 2 * np.pi))
     torque = torque + rng.normal(0.0, sd, t.size) + hum + rng.uniform(-1.0, 1.0)
-    quantum = float(rng.uniform(0.005, 0.02))
-    torque = np.round(torque / quantum) * quantum
-    angle_q = np.radians(float(rng.uniform(0.01, 0.05)))
-    angle = np.round((rad + np.radians(rng.uniform(-0.5, 0.5))) / angle_q) * angle_q
-    stamp = t * (1.0 + rng.uniform(-5e-4, 5e-4)) + rng.uniform(0.0, 0.1) / rate * rng.random(t.size)
-    keep = rng.random(t.size) > rng.uniform(0.0, 0.02)
-    for _ in range(int(rng.integers(0, 4))):  # runs of rows lost
-        start = int(rng.integers(0, t.size))
-        keep[start:start + int(rng.uniform(0.01, 0.15) * rate)] = False
-    stamp, angle, torque = stamp[keep].copy(), angle[keep].copy(), torque[keep].copy()
-    nan_rate = rng.uniform(0.0, 0.005)
-    for col in (stamp, angle, torque):
-        col[rng.random(col.size) < nan_rate] = np.nan
+    stamp, angle, torque = damage_recording(rng, t, rad, torque, rate, torque_quantum_nm=(0.005, 0.02),
+                                            angle_quantum_deg=(0.01, 0.05), clock_fraction=5e-4, drop_fraction=0.02,
+                                            run_s=0.15, nan_fraction=0.005)
     return FamilyBTrial(kind, stamp, angle, torque, fixed, subject, {e: truth[e] for e in effects}, details)
 
 

@@ -3,7 +3,8 @@
 The second to seventh families (:mod:`benchmarks.family_b_truth` … ``family_g_truth``) became development data once
 run. This one draws every cause from a law none of them or the engine's library uses. Nothing is imported from
 ``analysis``, nor any physics from the other generators (only the scoring contract of
-:mod:`benchmarks.family_b_truth`: effects, magnitude keys, the trial record).
+:mod:`benchmarks.family_b_truth`: effects, magnitude keys, the trial record; and the subject's draw and the
+recording's damage of :mod:`benchmarks.family_scaffold`).
 
 - Passive moment: collagen's toe-then-linear response at each end of a joint's range, a softplus
   k·w·ln(1 + e^{(θ − θ_end)/w}) per end (linear far past the end: neither exponential nor the fifth family's
@@ -51,6 +52,7 @@ import numpy as np
 # the scoring contract every family shares with the harness (benchmarks.diagnosis_family_b): the effects each kind
 # may hide, the engine's magnitude key per cause, the trial record; the physics below is this family's own
 from .family_b_truth import EFFECTS, MAGNITUDE_KEY, FamilyBTrial
+from .family_scaffold import damage_recording, draw_subject
 
 GRAVITY = 9.81
 NOISE_SD_NM = {"afo": 0.05, "knee": 0.18, "ankle": 0.1}
@@ -208,9 +210,7 @@ def generate_h(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Famil
     rng = np.random.default_rng([8, 8, 1, list(EFFECTS).index(kind), seed,
                                  *sorted(EFFECTS[kind].index(e) for e in effects)])
     rate = float(rng.choice([100.0, 250.0, 500.0, 1000.0, 2000.0]))
-    subject = {"mass_kg": float(rng.uniform(45.0, 110.0)), "height_m": float(rng.uniform(1.50, 2.00))}
-    subject["shank_length_m"] = 0.246 * subject["height_m"] * rng.uniform(0.95, 1.05)
-    subject["foot_length_m"] = 0.152 * subject["height_m"] * rng.uniform(0.95, 1.05)
+    subject = draw_subject(rng)
     fixed: dict[str, float] = {}
     if kind == "knee":
         fixed = {"hip_flexion_deg": float(rng.choice([90.0, 55.0, 15.0])), "ankle_dorsiflexion_deg": 0.0}
@@ -324,19 +324,9 @@ def generate_h(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Famil
         on = (t >= at_s) & (t < at_s + dur)
         noise[on] += float(rng.uniform(2.0, 3.0)) * sd * np.sqrt(2.0) * np.sin(2 * np.pi * hz * (t[on] - at_s))
     torque = torque + noise + rng.uniform(-1.0, 1.0)
-    quantum = float(rng.uniform(0.002, 0.015))
-    torque = np.round(torque / quantum) * quantum
-    angle_q = np.radians(float(rng.uniform(0.005, 0.04)))
-    angle = np.round((rad + np.radians(rng.uniform(-0.5, 0.5))) / angle_q) * angle_q
-    stamp = t * (1.0 + rng.uniform(-3e-4, 3e-4)) + rng.uniform(0.0, 0.1) / rate * rng.random(t.size)
-    keep = rng.random(t.size) > rng.uniform(0.0, 0.015)
-    for _ in range(int(rng.integers(0, 4))):  # runs of rows lost
-        start = int(rng.integers(0, t.size))
-        keep[start:start + int(rng.uniform(0.01, 0.1) * rate)] = False
-    stamp, angle, torque = stamp[keep].copy(), angle[keep].copy(), torque[keep].copy()
-    nan_rate = rng.uniform(0.0, 0.004)
-    for col in (stamp, angle, torque):
-        col[rng.random(col.size) < nan_rate] = np.nan
+    stamp, angle, torque = damage_recording(rng, t, rad, torque, rate, torque_quantum_nm=(0.002, 0.015),
+                                            angle_quantum_deg=(0.005, 0.04), clock_fraction=3e-4, drop_fraction=0.015,
+                                            run_s=0.1, nan_fraction=0.004)
     return FamilyBTrial(kind, stamp, angle, torque, fixed, subject, {e: truth[e] for e in effects}, details)
 
 

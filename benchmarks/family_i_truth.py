@@ -3,7 +3,8 @@
 The second to eighth families (:mod:`benchmarks.family_b_truth` … ``family_h_truth``) became development data once
 run. This one draws every cause from a law none of them or the engine's library uses. Nothing is imported from
 ``analysis``, nor any physics from the other generators (only the scoring contract of
-:mod:`benchmarks.family_b_truth`: effects, magnitude keys, the trial record).
+:mod:`benchmarks.family_b_truth`: effects, magnitude keys, the trial record; and the subject's draw and the
+recording's damage of :mod:`benchmarks.family_scaffold`).
 
 - Passive moment: collagen fibres recruited one by one (a structural model of ligament and tendon, after Shah,
   Hurschler et al.): the fibres' slack angles Weibull-distributed past an onset at each end of the range, each
@@ -50,6 +51,7 @@ import numpy as np
 # the scoring contract every family shares with the harness (benchmarks.diagnosis_family_b): the effects each kind
 # may hide, the engine's magnitude key per cause, the trial record; the physics below is this family's own
 from .family_b_truth import EFFECTS, MAGNITUDE_KEY, FamilyBTrial
+from .family_scaffold import damage_recording, draw_subject
 
 GRAVITY = 9.81
 NOISE_SD_NM = {"afo": 0.05, "knee": 0.2, "ankle": 0.11}
@@ -191,9 +193,7 @@ def generate_i(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Famil
     rng = np.random.default_rng([9, 9, 2, list(EFFECTS).index(kind), seed,
                                  *sorted(EFFECTS[kind].index(e) for e in effects)])
     rate = float(rng.choice([100.0, 200.0, 500.0, 1000.0]))
-    subject = {"mass_kg": float(rng.uniform(45.0, 110.0)), "height_m": float(rng.uniform(1.50, 2.00))}
-    subject["shank_length_m"] = 0.246 * subject["height_m"] * rng.uniform(0.95, 1.05)
-    subject["foot_length_m"] = 0.152 * subject["height_m"] * rng.uniform(0.95, 1.05)
+    subject = draw_subject(rng)
     fixed: dict[str, float] = {}
     if kind == "knee":
         fixed = {"hip_flexion_deg": float(rng.choice([90.0, 55.0, 15.0])), "ankle_dorsiflexion_deg": 0.0}
@@ -311,19 +311,9 @@ def generate_i(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Famil
     load = np.abs(torque - np.median(torque))
     scale = 0.6 + 0.8 * load / max(float(load.max()), 1e-12)
     torque = torque + rng.normal(0.0, 1.0, t.size) * sd * scale + rng.uniform(-1.0, 1.0)
-    quantum = float(rng.uniform(0.002, 0.015))
-    torque = np.round(torque / quantum) * quantum
-    angle_q = np.radians(float(rng.uniform(0.005, 0.04)))
-    angle = np.round((rad + np.radians(rng.uniform(-0.5, 0.5))) / angle_q) * angle_q
-    stamp = t * (1.0 + rng.uniform(-3e-4, 3e-4)) + rng.uniform(0.0, 0.1) / rate * rng.random(t.size)
-    keep_rows = rng.random(t.size) > rng.uniform(0.0, 0.015)
-    for _ in range(int(rng.integers(0, 4))):  # runs of rows lost
-        begin = int(rng.integers(0, t.size))
-        keep_rows[begin:begin + int(rng.uniform(0.01, 0.1) * rate)] = False
-    stamp, angle, torque = stamp[keep_rows].copy(), angle[keep_rows].copy(), torque[keep_rows].copy()
-    nan_rate = rng.uniform(0.0, 0.004)
-    for col in (stamp, angle, torque):
-        col[rng.random(col.size) < nan_rate] = np.nan
+    stamp, angle, torque = damage_recording(rng, t, rad, torque, rate, torque_quantum_nm=(0.002, 0.015),
+                                            angle_quantum_deg=(0.005, 0.04), clock_fraction=3e-4, drop_fraction=0.015,
+                                            run_s=0.1, nan_fraction=0.004)
     return FamilyBTrial(kind, stamp, angle, torque, fixed, subject, {e: truth[e] for e in effects}, details)
 
 

@@ -1,9 +1,10 @@
 """A tenth generator family for the diagnosis, written before the engine of its round froze and run once after.
 
-The second to ninth families (:mod:`benchmarks.family_b_truth` … ``family_i_truth``) became development data once
-run. This one draws every cause from a law none of them or the engine's library uses (checked against their
-docstrings before it was run). Nothing is imported from ``analysis``, nor any physics from the other generators
-(only the scoring contract of :mod:`benchmarks.family_b_truth`: effects, magnitude keys, the trial record).
+The second to ninth families (:mod:`benchmarks.family_b_truth` … ``family_i_truth``) became development data once run.
+This one draws every cause from a law none of them or the engine's library uses (checked against their docstrings
+before it was run). Nothing is imported from ``analysis``, nor any physics from the other generators (only the scoring
+contract of :mod:`benchmarks.family_b_truth`: effects, magnitude keys, the trial record; and the subject's draw and
+the recording's damage of :mod:`benchmarks.family_scaffold`).
 
 - Passive moment: a lab's lookup table, not a formula: at each end of a joint's range the stiffness is given at six
   knots 4–8° apart past an onset, rising from zero by random factors of 1.4–2.6 per knot, interpolated by a
@@ -58,6 +59,7 @@ import numpy as np
 # the scoring contract every family shares with the harness (benchmarks.diagnosis_family_b): the effects each kind
 # may hide, the engine's magnitude key per cause, the trial record; the physics below is this family's own
 from .family_b_truth import EFFECTS, MAGNITUDE_KEY, FamilyBTrial
+from .family_scaffold import damage_recording, draw_subject
 
 GRAVITY = 9.81
 NOISE_SD_NM = {"afo": 0.06, "knee": 0.19, "ankle": 0.12}
@@ -245,9 +247,7 @@ def generate_j(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Famil
     rng = np.random.default_rng([10, 10, 3, list(EFFECTS).index(kind), seed,
                                  *sorted(EFFECTS[kind].index(e) for e in effects)])
     rate = float(rng.choice([100.0, 250.0, 500.0, 1000.0]))
-    subject = {"mass_kg": float(rng.uniform(45.0, 110.0)), "height_m": float(rng.uniform(1.50, 2.00))}
-    subject["shank_length_m"] = 0.246 * subject["height_m"] * rng.uniform(0.95, 1.05)
-    subject["foot_length_m"] = 0.152 * subject["height_m"] * rng.uniform(0.95, 1.05)
+    subject = draw_subject(rng)
     fixed: dict[str, float] = {}
     if kind == "knee":
         fixed = {"hip_flexion_deg": float(rng.choice([90.0, 55.0, 15.0])), "ankle_dorsiflexion_deg": 0.0}
@@ -366,19 +366,9 @@ def generate_j(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Famil
                                                         + float(rng.uniform(0.0, 2.0 * np.pi)))
     noise = rng.laplace(0.0, sd / np.sqrt(2.0), t.size) * swell  # a Laplace variable of scale s has SD s·√2
     torque = torque * (1.0 + float(rng.uniform(-0.02, 0.02))) + noise + rng.uniform(-1.0, 1.0)
-    quantum = float(rng.uniform(0.002, 0.015))
-    torque = np.round(torque / quantum) * quantum
-    angle_q = np.radians(float(rng.uniform(0.005, 0.04)))
-    angle = np.round((rad + np.radians(rng.uniform(-0.5, 0.5))) / angle_q) * angle_q
-    stamp = t * (1.0 + rng.uniform(-2e-4, 2e-4)) + rng.uniform(0.0, 0.1) / rate * rng.random(t.size)
-    keep_rows = rng.random(t.size) > rng.uniform(0.0, 0.015)
-    for _ in range(int(rng.integers(0, 4))):  # runs of rows lost
-        begin = int(rng.integers(0, t.size))
-        keep_rows[begin:begin + int(rng.uniform(0.01, 0.1) * rate)] = False
-    stamp, angle, torque = stamp[keep_rows].copy(), angle[keep_rows].copy(), torque[keep_rows].copy()
-    nan_rate = rng.uniform(0.0, 0.004)
-    for col in (stamp, angle, torque):
-        col[rng.random(col.size) < nan_rate] = np.nan
+    stamp, angle, torque = damage_recording(rng, t, rad, torque, rate, torque_quantum_nm=(0.002, 0.015),
+                                            angle_quantum_deg=(0.005, 0.04), clock_fraction=2e-4, drop_fraction=0.015,
+                                            run_s=0.1, nan_fraction=0.004)
     return FamilyBTrial(kind, stamp, angle, torque, fixed, subject, {e: truth[e] for e in effects}, details)
 
 
