@@ -284,17 +284,16 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     j_ext, j_meas = j_nuis[:, :len(ext_names)], j_nuis[:, len(ext_names):]
     extension_share: dict[str, float] = {}
     if ext_names:
-        # how much of each parameter's effect on the torque the extension's terms reproduce (R² of its column on
-        # theirs): near 1, the two are told apart by the curves' shapes only
-        explained = j_ext @ (np.linalg.pinv(j_ext.T @ j_ext, rcond=1e-10) @ (j_ext.T @ j))
-        own = np.sum(j**2, axis=0)
-        share = np.where(own > 0, np.sum(explained**2, axis=0) / np.where(own > 0, own, 1.0), 0.0)
-        extension_share = {n: float(np.clip(v, 0.0, 1.0)) for n, v in zip(names, share, strict=True)}
-    if ext_names:
         # the extension's parameters profiled out (fitted jointly, first order): the muscles' columns (and the
         # set angles') made orthogonal to the extension's
         project = np.linalg.pinv(j_ext.T @ j_ext, rcond=1e-10) @ j_ext.T
-        j = j - j_ext @ (project @ j)
+        explained = j_ext @ (project @ j)
+        # how much of each parameter's effect on the torque the extension's terms reproduce (R² of its column on
+        # theirs): near 1, the two are told apart by the curves' shapes only
+        own = np.sum(j**2, axis=0)
+        share = np.where(own > 0, np.sum(explained**2, axis=0) / np.where(own > 0, own, 1.0), 0.0)
+        extension_share = {n: float(np.clip(v, 0.0, 1.0)) for n, v in zip(names, share, strict=True)}
+        j = j - explained
         j_meas = j_meas - j_ext @ (project @ j_meas)
     n_set = len(conditions)
     if set_angles_fitted:

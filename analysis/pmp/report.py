@@ -367,16 +367,14 @@ def text(report: PmpReport, *, timings: bool = True) -> str:
                      f"({ext.plain_misfit_ratio:.1f}× → {ext.misfit_ratio:.1f}× the noise); determined "
                      f"{len(ext.plain_determined)} → {len(ext.determined)} parameters (the table above is the "
                      "extended model's, its intervals with the extension's parameters fitted jointly)")
+        from .model_diagnosis import protocol_to_separate
+
         traded = sorted(set(ext.plain_determined) - set(ext.determined))
         if traded:
-            from .model_diagnosis import protocol_to_separate
-
             lines.append("  trade with the extension (determined by the plain model, not beside it): " + ", ".join(traded)
                          + "; " + protocol_to_separate(ext.extension))
         shape_only = [n for n in idf.determined if idf.extension_share.get(n, 0.0) > SHAPE_ONLY_SHARE]
         if shape_only:
-            from .model_diagnosis import protocol_to_separate
-
             lines.append("  told from the extension by the curves' shapes only (its terms reproduce "
                          + ", ".join(f"{100 * idf.extension_share[n]:.0f} % of {n}'s effect" for n in shape_only)
                          + "): their intervals hold if the extension's shape is the structure's; "

@@ -159,17 +159,22 @@ class ModbusTorqueSensor(TorqueSensor):
             raise DeviceInitializationError(f"{self.name}: cannot connect to {self.port}")
         # the transmitter must answer before we call it open; one poll's timeout is short (a sample period),
         # so a busy host or a frame lost on the wire gets OPEN_ATTEMPTS requests before "does not answer"
-        regs = None
-        for _ in range(OPEN_ATTEMPTS):
-            regs = self._read_registers(self.registers.zero_offset, 2)
-            if regs is not None:
-                break
+        regs = self._read_zero_offset()
         if regs is None:
             self._close_internal()
             raise DeviceInitializationError(f"{self.name}: unit {self.unit} on {self.port} does not answer")
         self.zero_offset_nm = r.decode_float(regs, self.word_order)
         self._check_word_order()
         self._probe_sample_counter()
+
+    def _read_zero_offset(self) -> list[int] | None:
+        """The zero-offset registers, asked up to :data:`OPEN_ATTEMPTS` times (each failure counted as a poll's);
+        None when every request failed."""
+        for _ in range(OPEN_ATTEMPTS):
+            regs = self._read_registers(self.registers.zero_offset, 2)
+            if regs is not None:
+                return regs
+        return None
 
     def _probe_sample_counter(self) -> None:
         """Read the output data rate: a transmitter that publishes one numbers its conversions, and the
@@ -379,11 +384,7 @@ class ModbusTorqueSensor(TorqueSensor):
                                              ) from err
         if rr.isError():
             raise CommandRefusedError(f"{self.name}: tare refused ({rr})")
-        regs = None
-        for _ in range(OPEN_ATTEMPTS):
-            regs = self._read_registers(self.registers.zero_offset, 2)
-            if regs is not None:
-                break
+        regs = self._read_zero_offset()
         if regs is None:
             raise DeviceTimeoutError(f"{self.name}: zero offset not readable after tare ({OPEN_ATTEMPTS} tries)")
         self.zero_offset_nm = r.decode_float(regs, self.word_order)
