@@ -1,4 +1,4 @@
-"""The fifth to tenth generator families' shared contract: each cause hidden with its truth in a recording with a
+"""The fifth to eleventh generator families' shared contract: each cause hidden with its truth in a recording with a
 lab's damage, and a seed making the same trial. Each family's own physics is tested in its own module."""
 
 from __future__ import annotations
@@ -16,8 +16,10 @@ from benchmarks.family_g_truth import generate_g
 from benchmarks.family_h_truth import generate_h
 from benchmarks.family_i_truth import generate_i
 from benchmarks.family_j_truth import generate_j
+from benchmarks.family_k_truth import generate_k
 
-GENERATORS = {"e": generate_e, "f": generate_f, "g": generate_g, "h": generate_h, "i": generate_i, "j": generate_j}
+GENERATORS = {"e": generate_e, "f": generate_f, "g": generate_g, "h": generate_h, "i": generate_i, "j": generate_j,
+              "k": generate_k}
 
 
 @pytest.mark.parametrize("family", list(GENERATORS))
