@@ -19,8 +19,9 @@ the recording's damage of :mod:`benchmarks.family_scaffold`).
   44.9 % of its length; radii of gyration about the centre 28 % (shank) and 26 % (foot) of the length.
 - Causes, each sized so its largest torque is 3–5 × the noise SD (a delay and a compliance by their ranges):
   * friction: a lip seal whose interference grows along the range, its level F₀·(1 + g·u) (u 0 → 1 from one end of
-    the range to the other, g 0.3–0.8, either way), its sign a linear ramp through a stick band
-    clip(θ̇/w, −1, 1) (w 0.3–1.5 °/s); magnitude: the level's mean over the moving samples;
+    the range to the other, g 0.3–0.8, either way; the fifth family's bearing ripple varied its level periodically
+    by ≤ 20 %), its sign a linear ramp through a stick band clip(θ̇/w, −1, 1) (w 0.3–1.5 °/s); magnitude: the
+    level's mean over the moving samples;
   * damping: direction-dependent (eccentric against concentric), b·θ̇ moving toward increasing angle and r·b·θ̇ the
     other way (r 0.4–0.7 or 1.4–2.5); magnitude: the least-squares coefficient of its torque on θ̇ over the moving
     samples;
@@ -32,7 +33,9 @@ the recording's damage of :mod:`benchmarks.family_scaffold`).
   * activation: a ramp contraction, the torque rising linearly over 0.3–1.5 s and released within 30–80 ms, of
     either sign; magnitude: its peak;
   * limb-weight error: the chair reclined by an angle the sidecar does not know, so the limb's weight acts at
-    another orientation than the one the engine computes; magnitude: the peak moment error;
+    another orientation than the one the engine computes (the error's shape, a phase of the weight's moment, is the
+    third family's centre of mass off the segment's axis: the one overlap, found in the check, kept as a cause a lab
+    meets); magnitude: the peak moment error;
   * drift: the motor warming with the work it does, the zero following the mechanical power |θ̇·τ| through a
     first-order thermal lag of 30–120 s; named only;
   * series compliance: a strap that gives only in tension, c·max(±τ, 0) (one side of the torque, drawn);
