@@ -116,6 +116,8 @@ class _Evidence:
     n_eff: float
     heldout_rmse: float
     accepted: bool
+    #: a burst's ΔBIC on the flexible baseline at that fit's own n_eff (NaN: not judged there)
+    flexible_own_delta_bic: float = float("nan")
 
 
 class _Search:
@@ -213,12 +215,13 @@ class _Search:
         # fit's residual RMS (a clean sixth-family knee, Student-t noise, had a 1.5× bump at ΔBIC −103; the bursts
         # found this way were 3.3–7.9×). Development: single bursts 31 → 38 of 54 named, pairs with a burst 50 → 50
         # of 126 right (80 of their bursts named, 76 before), clean knee and ankle trials 158 → 158 of 180
-        of_time = False
+        of_time, d_own = False, float("nan")
         if added.name == "activation_burst" and ref == ("none",):
             flex_model = self.flexible(model)
             n_flex = effective_n(self.flex.torque - flex_model.prediction)
             peak = abs(flex_model.params["burst_amplitude_Nm"]) / math.sqrt(flex_model.rss / max(flex_model.n, 1))
-            of_time = bic(flex_model, n_flex) - bic(self.flexible(ref), n_flex) < -need and peak >= MIN_PEAK_TO_NOISE
+            d_own = bic(flex_model, n_flex) - bic(self.flexible(ref), n_flex)
+            of_time = d_own < -need and peak >= MIN_PEAK_TO_NOISE
         # a second way in, by strong out-of-sample evidence: held-out blocks predicted far better
         # (gain > STRONG_HELDOUT_GAIN) while the in-sample criterion does not speak against it. A
         # local effect (a stop over the last degrees) barely moves the whole-trial BIC, whose
@@ -246,7 +249,7 @@ class _Search:
                 ok = self.stop_beats_smooth_rival(model)
                 if not ok:
                     self.stops_not_told_from_smooth.add("+".join(model))
-        return _Evidence(d, gain, d_flex, n_eff, ho, ok)
+        return _Evidence(d, gain, d_flex, n_eff, ho, ok, d_own)
 
     def smooth_rival(self, model: tuple[str, ...]) -> tuple[CauseFit, np.ndarray]:
         """``model`` with its stop replaced by a smooth stiffening at the stop's end of the range (one more
@@ -413,7 +416,9 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
                                bool(ev and ev.accepted),
                                ("transient: judged by the criterion only" if CAUSES[n].transient else "")
                                + ("" if ev is None or not math.isfinite(ev.flexible_delta_bic) else
-                                  f" ΔBIC {ev.flexible_delta_bic:.1f} against a free curve in angle")))
+                                  f" ΔBIC {ev.flexible_delta_bic:.1f} against a free curve in angle")
+                               + ("" if ev is None or not math.isfinite(ev.flexible_own_delta_bic) else
+                                  f" ({ev.flexible_own_delta_bic:.1f} at that fit's own n_eff)")))
     accepted = [n for n in single if single[n].accepted]
     if accepted:
         # rank at one noise model for all: each cause's own residual gives its own n_eff, and a cause that

@@ -436,3 +436,5 @@ def test_a_burst_beside_a_passive_curve_outside_the_baselines_family_is_named_fr
         fitted, truth = abs(d.parameters["burst_amplitude_Nm"]), g.effects["activation_burst"]
         assert abs(fitted / truth - 1.0) < 0.15, (kind, seed, fitted, truth)
         assert abs(fitted - truth) <= 1.96 * d.parameters_se["burst_amplitude_Nm"], (kind, seed, fitted, truth)
+        note = next(c.note for c in d.candidates if c.cause == "activation_burst")
+        assert "at that fit's own n_eff" in note, note  # the report says which criterion named it
