@@ -4,7 +4,8 @@ The second to fourth families (:mod:`benchmarks.family_b_truth`, ``family_c_trut
 development data once run; the round that froze 193e037 developed against the fourth (Dahl's friction law of the
 path, a drift judged on interpolated blocks). This one draws every cause from a law none of the earlier families
 or the engine's library uses. Nothing is imported from ``analysis``, nor any physics from the other
-generators (only the scoring contract of :mod:`benchmarks.family_b_truth`: effects, magnitude keys, the trial record).
+generators (only the scoring contract of :mod:`benchmarks.family_b_truth`: effects, magnitude keys, the trial record;
+and the seeding of :mod:`benchmarks.family_scaffold`).
 
 - Passive moment: quadratic-softplus stiffening at each end of the range, k·w²·softplus(x/w)² with x the
   angle past an onset and w 3–8° its smoothness (it grows quadratically, not exponentially, far past the
@@ -52,6 +53,7 @@ import numpy as np
 # the scoring contract every family shares with the harness (benchmarks.diagnosis_family_b): the effects each kind
 # may hide, the engine's magnitude key per cause, the trial record; the physics below is this family's own
 from .family_b_truth import EFFECTS, MAGNITUDE_KEY, FamilyBTrial
+from .family_scaffold import trial_rng
 
 GRAVITY = 9.81
 NOISE_SD_NM = {"afo": 0.05, "knee": 0.18, "ankle": 0.1}
@@ -211,11 +213,7 @@ def _resonant_noise(rng: np.random.Generator, n: int, rate: float, sd: float) ->
 
 def generate_e(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> FamilyBTrial:
     """One trial of ``kind`` hiding ``effects`` (names as :data:`EFFECTS`), drawn from ``seed``."""
-    for e in effects:
-        if e not in EFFECTS[kind]:
-            raise ValueError(f"{e!r} is not an effect of {kind} trials")
-    rng = np.random.default_rng([5, 5, 2, list(EFFECTS).index(kind), seed,
-                                 *sorted(EFFECTS[kind].index(e) for e in effects)])
+    rng = trial_rng((5, 5, 2), kind, effects, seed)
     rate = float(rng.choice([100.0, 250.0, 500.0, 1000.0, 2000.0]))
     subject = {"mass_kg": float(rng.uniform(45.0, 110.0)), "height_m": float(rng.uniform(1.50, 2.00))}
     subject["shank_length_m"] = 0.25 * subject["height_m"] * rng.uniform(0.95, 1.05)

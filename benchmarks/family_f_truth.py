@@ -3,7 +3,7 @@
 The second to fifth families (:mod:`benchmarks.family_b_truth` … ``family_e_truth``) became development data once run.
 This one draws every cause from a law none of them or the engine's library uses. Nothing is imported from
 ``analysis``, nor any physics from the other generators (only the scoring contract of
-:mod:`benchmarks.family_b_truth`: effects, magnitude keys, the trial record; and the subject's draw of
+:mod:`benchmarks.family_b_truth`: effects, magnitude keys, the trial record; and the seeding, the subject's draw of
 :mod:`benchmarks.family_scaffold`).
 
 - Passive moment: limiting-extensibility (Gent-like) stiffening at each end, k·x/(1 − (x/x_max)²) for x the
@@ -48,7 +48,7 @@ import numpy as np
 # the scoring contract every family shares with the harness (benchmarks.diagnosis_family_b): the effects each kind
 # may hide, the engine's magnitude key per cause, the trial record; the physics below is this family's own
 from .family_b_truth import EFFECTS, MAGNITUDE_KEY, FamilyBTrial
-from .family_scaffold import draw_subject
+from .family_scaffold import draw_subject, trial_rng
 
 GRAVITY = 9.81
 NOISE_SD_NM = {"afo": 0.05, "knee": 0.18, "ankle": 0.1}
@@ -141,11 +141,7 @@ def _first_order(t: np.ndarray, x: np.ndarray, tau: float) -> np.ndarray:
 
 def generate_f(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> FamilyBTrial:
     """One trial of ``kind`` hiding ``effects`` (names as :data:`EFFECTS`), drawn from ``seed``."""
-    for e in effects:
-        if e not in EFFECTS[kind]:
-            raise ValueError(f"{e!r} is not an effect of {kind} trials")
-    rng = np.random.default_rng([6, 6, 3, list(EFFECTS).index(kind), seed,
-                                 *sorted(EFFECTS[kind].index(e) for e in effects)])
+    rng = trial_rng((6, 6, 3), kind, effects, seed)
     rate = float(rng.choice([120.0, 240.0, 480.0, 1000.0]))
     subject = draw_subject(rng)
     fixed: dict[str, float] = {}

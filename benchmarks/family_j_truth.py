@@ -3,7 +3,7 @@
 The second to ninth families (:mod:`benchmarks.family_b_truth` … ``family_i_truth``) became development data once run.
 This one draws every cause from a law none of them or the engine's library uses (checked against their docstrings
 before it was run). Nothing is imported from ``analysis``, nor any physics from the other generators (only the scoring
-contract of :mod:`benchmarks.family_b_truth`: effects, magnitude keys, the trial record; and the subject's draw and
+contract of :mod:`benchmarks.family_b_truth`: effects, magnitude keys, the trial record; and the seeding, the subject's draw and
 the recording's damage of :mod:`benchmarks.family_scaffold`).
 
 - Passive moment: a lab's lookup table, not a formula: at each end of a joint's range the stiffness is given at six
@@ -59,7 +59,7 @@ import numpy as np
 # the scoring contract every family shares with the harness (benchmarks.diagnosis_family_b): the effects each kind
 # may hide, the engine's magnitude key per cause, the trial record; the physics below is this family's own
 from .family_b_truth import EFFECTS, MAGNITUDE_KEY, FamilyBTrial
-from .family_scaffold import damage_recording, draw_subject
+from .family_scaffold import damage_recording, draw_subject, trial_rng
 
 GRAVITY = 9.81
 NOISE_SD_NM = {"afo": 0.06, "knee": 0.19, "ankle": 0.12}
@@ -241,11 +241,7 @@ def lognormal_pulse(t: np.ndarray, onset: float, peak_after: float, sigma: float
 
 def generate_j(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> FamilyBTrial:
     """One trial of ``kind`` hiding ``effects`` (names as :data:`EFFECTS`), drawn from ``seed``."""
-    for e in effects:
-        if e not in EFFECTS[kind]:
-            raise ValueError(f"{e!r} is not an effect of {kind} trials")
-    rng = np.random.default_rng([10, 10, 3, list(EFFECTS).index(kind), seed,
-                                 *sorted(EFFECTS[kind].index(e) for e in effects)])
+    rng = trial_rng((10, 10, 3), kind, effects, seed)
     rate = float(rng.choice([100.0, 250.0, 500.0, 1000.0]))
     subject = draw_subject(rng)
     fixed: dict[str, float] = {}

@@ -1,6 +1,7 @@
-"""Scaffolding the later generator families share (not their physics): the subject drawn for a trial (the sixth to
-tenth families) and a lab recording's damage (the seventh to tenth): quantised torque and angle (with an angle
-offset), a clock fast or slow with jitter, rows dropped singly and in runs, NaN cells in any column.
+"""Scaffolding the later generator families share (not their physics): a trial's random stream from its family,
+kind, effects and seed (the fifth to eleventh families), the subject drawn for a trial (the sixth to eleventh) and a
+lab recording's damage (the seventh to eleventh): quantised torque and angle (with an angle offset), a clock fast or
+slow with jitter, rows dropped singly and in runs, NaN cells in any column.
 
 Each family draws its own ranges; the draws are made in one fixed order, so a family's trials are the same as when
 each wrote these out (checked on 450 trials of the five families, every array identical).
@@ -9,6 +10,18 @@ each wrote these out (checked on 450 trials of the five families, every array id
 from __future__ import annotations
 
 import numpy as np
+
+from .family_b_truth import EFFECTS
+
+
+def trial_rng(family: tuple[int, ...], kind: str, effects: tuple[str, ...], seed: int) -> np.random.Generator:
+    """The random stream of one trial: seeded by the family's own prefix, the kind, the seed and the hidden effects
+    (in any order); raises ValueError for an effect the kind cannot hide (names as :data:`EFFECTS`)."""
+    for e in effects:
+        if e not in EFFECTS[kind]:
+            raise ValueError(f"{e!r} is not an effect of {kind} trials")
+    return np.random.default_rng([*family, list(EFFECTS).index(kind), seed,
+                                  *sorted(EFFECTS[kind].index(e) for e in effects)])
 
 
 def draw_subject(rng: np.random.Generator) -> dict[str, float]:
@@ -45,4 +58,4 @@ def damage_recording(rng: np.random.Generator, t: np.ndarray, rad: np.ndarray, t
     return stamp, angle, torque
 
 
-__all__ = ["damage_recording", "draw_subject"]
+__all__ = ["damage_recording", "draw_subject", "trial_rng"]
