@@ -1,4 +1,4 @@
-"""The fifth to eleventh generator families' shared contract: each cause hidden with its truth in a recording with a
+"""The fifth to twelfth generator families' shared contract: each cause hidden with its truth in a recording with a
 lab's damage, and a seed making the same trial. Each family's own physics is tested in its own module."""
 
 from __future__ import annotations
@@ -17,9 +17,10 @@ from benchmarks.family_h_truth import generate_h
 from benchmarks.family_i_truth import generate_i
 from benchmarks.family_j_truth import generate_j
 from benchmarks.family_k_truth import generate_k
+from benchmarks.family_l_truth import generate_l
 
 GENERATORS = {"e": generate_e, "f": generate_f, "g": generate_g, "h": generate_h, "i": generate_i, "j": generate_j,
-              "k": generate_k}
+              "k": generate_k, "l": generate_l}
 
 
 @pytest.mark.parametrize("family", list(GENERATORS))
