@@ -21,7 +21,8 @@ Selection, in order:
    t statistic of its stiffness past a look-elsewhere-corrected level (:data:`LOCAL_STOP_T`) with
    held-out blocks predicted no worse (an orthosis's stop also at a
    lower t with held-out blocks predicted clearly better: :data:`AFO_STOP_T`). A cause that is not a function of
-   angle alone must also lower the criterion against the *flexible* baseline (a spline in angle);
+   angle alone must also lower the criterion against the *flexible* baseline (a spline in angle), and so must a
+   series compliance, which in a slow trial only reshapes the curve in angle;
 5. a cause whose effect the baseline can mimic (R² > ``max_absorbed_r2`` of its effect direction
    on the baseline basis) is not testable in this trial: it is never named, and the report says
    what the trial would need;
