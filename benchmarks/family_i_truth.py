@@ -4,7 +4,8 @@ The second to eighth families (:mod:`benchmarks.family_b_truth` … ``family_h_t
 run. This one draws every cause from a law none of them or the engine's library uses. Nothing is imported from
 ``analysis``, nor any physics from the other generators (only the scoring contract of
 :mod:`benchmarks.family_b_truth`: effects, magnitude keys, the trial record; and the seeding, the subject's draw and the
-recording's damage of :mod:`benchmarks.family_scaffold`).
+recording's damage and the protocol's set-up of
+:mod:`benchmarks.family_scaffold`).
 
 - Passive moment: collagen fibres recruited one by one (a structural model of ligament and tendon, after Shah,
   Hurschler et al.): the fibres' slack angles Weibull-distributed past an onset at each end of the range, each
@@ -51,7 +52,7 @@ import numpy as np
 # the scoring contract every family shares with the harness (benchmarks.diagnosis_family_b): the effects each kind
 # may hide, the engine's magnitude key per cause, the trial record; the physics below is this family's own
 from .family_b_truth import EFFECTS, MAGNITUDE_KEY, FamilyBTrial
-from .family_scaffold import damage_recording, draw_subject, trial_rng
+from .family_scaffold import damage_recording, draw_subject, kinematics, protocol_set_up, trial_rng
 
 GRAVITY = 9.81
 NOISE_SD_NM = {"afo": 0.05, "knee": 0.2, "ankle": 0.11}
@@ -190,22 +191,9 @@ def generate_i(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Famil
     rng = trial_rng((9, 9, 2), kind, effects, seed)
     rate = float(rng.choice([100.0, 200.0, 500.0, 1000.0]))
     subject = draw_subject(rng)
-    fixed: dict[str, float] = {}
-    if kind == "knee":
-        fixed = {"hip_flexion_deg": float(rng.choice([90.0, 55.0, 15.0])), "ankle_dorsiflexion_deg": 0.0}
-        lo, hi = float(rng.uniform(3.0, 12.0)), float(rng.uniform(80.0, 95.0))
-        deg = _knob_strokes(rng, lo, hi, rate)
-    elif kind == "ankle":
-        fixed = {"knee_flexion_deg": float(rng.choice([0.0, 45.0, 90.0])), "hip_flexion_deg": 90.0}
-        lo, hi = float(rng.uniform(-32.0, -22.0)), float(rng.uniform(10.0, 20.0))
-        deg = _knob_strokes(rng, lo, hi, rate)
-    else:
-        deg = _bend_and_release(rng, rate)
-        lo, hi = 0.0, float(deg.max())
-    t = np.arange(deg.size) / rate
-    rad = np.radians(deg)
-    vel = np.gradient(rad, t)
-    acc = np.gradient(vel, t)
+    fixed, lo, hi, deg = protocol_set_up(rng, kind, lambda r, a, b: _knob_strokes(r, a, b, rate),
+                                         lambda r: _bend_and_release(r, rate))
+    t, rad, vel, acc = kinematics(deg, rate)
     coef = _coefficients(rng, kind, lo, hi)
     sd = NOISE_SD_NM[kind] * rng.uniform(0.8, 1.25)
     details: dict[str, Any] = {"rate_hz": rate, "noise_sd_Nm": sd}

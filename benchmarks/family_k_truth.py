@@ -4,7 +4,8 @@ The second to tenth families (:mod:`benchmarks.family_b_truth` … ``family_j_tr
 This one draws every cause from a law none of them or the engine's library uses (checked against their docstrings
 before it was run). Nothing is imported from ``analysis``, nor any physics from the other generators (only the scoring
 contract of :mod:`benchmarks.family_b_truth`: effects, magnitude keys, the trial record; and the seeding, the subject's draw and
-the recording's damage of :mod:`benchmarks.family_scaffold`).
+the recording's damage and the protocol's set-up of
+:mod:`benchmarks.family_scaffold`).
 
 - Passive moment: Fung's exponential law of soft tissue at each end of a joint's range, k·x·e^{(x/w)²} for x the
   angle past an onset (it stiffens faster than any single exponential: the exponent grows with the square of the
@@ -59,7 +60,7 @@ import numpy as np
 # the scoring contract every family shares with the harness (benchmarks.diagnosis_family_b): the effects each kind
 # may hide, the engine's magnitude key per cause, the trial record; the physics below is this family's own
 from .family_b_truth import EFFECTS, MAGNITUDE_KEY, FamilyBTrial
-from .family_scaffold import damage_recording, draw_subject, trial_rng
+from .family_scaffold import damage_recording, draw_subject, kinematics, protocol_set_up, trial_rng
 
 GRAVITY = 9.81
 NOISE_SD_NM = {"afo": 0.06, "knee": 0.19, "ankle": 0.12}
@@ -228,22 +229,10 @@ def generate_k(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Famil
     rng = trial_rng((11, 11, 5), kind, effects, seed)
     rate = float(rng.choice([100.0, 250.0, 500.0, 1000.0]))
     subject = draw_subject(rng)
-    fixed: dict[str, float] = {}
-    if kind == "knee":  # slow toward extension (the hamstrings stretched), quick back to flexion
-        fixed = {"hip_flexion_deg": float(rng.choice([90.0, 55.0, 15.0])), "ankle_dorsiflexion_deg": 0.0}
-        lo, hi = float(rng.uniform(3.0, 12.0)), float(rng.uniform(80.0, 95.0))
-        deg = _stretch_and_return(rng, lo, hi, False, rate)
-    elif kind == "ankle":  # slow toward dorsiflexion (the calf stretched), quick back
-        fixed = {"knee_flexion_deg": float(rng.choice([0.0, 45.0, 90.0])), "hip_flexion_deg": 90.0}
-        lo, hi = float(rng.uniform(-32.0, -22.0)), float(rng.uniform(10.0, 20.0))
-        deg = _stretch_and_return(rng, lo, hi, True, rate)
-    else:
-        deg = _logistic_bends(rng, rate)
-        lo, hi = 0.0, float(deg.max())
-    t = np.arange(deg.size) / rate
-    rad = np.radians(deg)
-    vel = np.gradient(rad, t)
-    acc = np.gradient(vel, t)
+    # slow toward the end that stretches the two-joint muscles (the knee's extension, the ankle's dorsiflexion)
+    fixed, lo, hi, deg = protocol_set_up(rng, kind, lambda r, a, b: _stretch_and_return(r, a, b, kind == "ankle", rate),
+                                         lambda r: _logistic_bends(r, rate))
+    t, rad, vel, acc = kinematics(deg, rate)
     coef = _coefficients(rng, kind, lo, hi)
     sd = NOISE_SD_NM[kind] * rng.uniform(0.8, 1.25)
     details: dict[str, Any] = {"rate_hz": rate, "noise_sd_Nm": sd}

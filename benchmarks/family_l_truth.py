@@ -5,7 +5,8 @@ run. This one draws every cause from a law none of them or the engine's library 
 docstrings and :mod:`analysis.diagnosis.causes` before it was run; the near relations are said at each cause).
 Nothing is imported from ``analysis``, nor any physics from the other generators (only the scoring contract of
 :mod:`benchmarks.family_b_truth`: effects, magnitude keys, the trial record; and the seeding, the subject's draw and
-the recording's damage of :mod:`benchmarks.family_scaffold`).
+the recording's damage and the protocol's set-up of
+:mod:`benchmarks.family_scaffold`).
 
 - Passive moment: a power law at each end of a joint's range, k·x^p for x the angle past an onset (p 2.5–4: it
   stiffens algebraically, neither exponentially nor with a limiting extension), the onset toward a two-joint muscle
@@ -60,7 +61,7 @@ import numpy as np
 # the scoring contract every family shares with the harness (benchmarks.diagnosis_family_b): the effects each kind
 # may hide, the engine's magnitude key per cause, the trial record; the physics below is this family's own
 from .family_b_truth import EFFECTS, MAGNITUDE_KEY, FamilyBTrial
-from .family_scaffold import damage_recording, draw_subject, trial_rng
+from .family_scaffold import damage_recording, draw_subject, kinematics, protocol_set_up, trial_rng
 
 GRAVITY = 9.81
 NOISE_SD_NM = {"afo": 0.06, "knee": 0.18, "ankle": 0.12}
@@ -246,22 +247,9 @@ def generate_l(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Famil
     seg = {"shank_mass": float(rng.uniform(0.043, 0.049)), "shank_centre": float(rng.uniform(0.38, 0.45)),
            "shank_gyration": float(rng.uniform(0.27, 0.30)), "foot_mass": float(rng.uniform(0.013, 0.015)),
            "foot_centre": float(rng.uniform(0.40, 0.50)), "foot_gyration": float(rng.uniform(0.24, 0.28))}
-    fixed: dict[str, float] = {}
-    if kind == "knee":
-        fixed = {"hip_flexion_deg": float(rng.choice([90.0, 55.0, 15.0])), "ankle_dorsiflexion_deg": 0.0}
-        lo, hi = float(rng.uniform(3.0, 12.0)), float(rng.uniform(80.0, 95.0))
-        deg = jogged_strokes(rng, lo, hi, rate)
-    elif kind == "ankle":
-        fixed = {"knee_flexion_deg": float(rng.choice([0.0, 45.0, 90.0])), "hip_flexion_deg": 90.0}
-        lo, hi = float(rng.uniform(-32.0, -22.0)), float(rng.uniform(10.0, 20.0))
-        deg = jogged_strokes(rng, lo, hi, rate)
-    else:
-        deg = _double_presses(rng, rate)
-        lo, hi = 0.0, float(deg.max())
-    t = np.arange(deg.size) / rate
-    rad = np.radians(deg)
-    vel = np.gradient(rad, t)
-    acc = np.gradient(vel, t)
+    fixed, lo, hi, deg = protocol_set_up(rng, kind, lambda r, a, b: jogged_strokes(r, a, b, rate),
+                                         lambda r: _double_presses(r, rate))
+    t, rad, vel, acc = kinematics(deg, rate)
     coef = _coefficients(rng, kind, lo, hi)
     sd = NOISE_SD_NM[kind] * rng.uniform(0.8, 1.25)
     details: dict[str, Any] = {"rate_hz": rate, "noise_sd_Nm": sd, "segments": seg}

@@ -1,13 +1,16 @@
 """Scaffolding the later generator families share (not their physics): a trial's random stream from its family,
-kind, effects and seed (the fifth to eleventh families), the subject drawn for a trial (the sixth to eleventh) and a
-lab recording's damage (the seventh to eleventh): quantised torque and angle (with an angle offset), a clock fast or
-slow with jitter, rows dropped singly and in runs, NaN cells in any column.
+kind, effects and seed (the fifth to twelfth families), the subject drawn for a trial (the sixth to twelfth), a lab
+recording's damage (the seventh to twelfth): quantised torque and angle (with an angle offset), a clock fast or
+slow with jitter, rows dropped singly and in runs, NaN cells in any column; and the protocol's set-up (the ninth to
+twelfth): the other joint's set angle, the swept range and the motion's kinematics.
 
 Each family draws its own ranges; the draws are made in one fixed order, so a family's trials are the same as when
 each wrote these out (checked on 450 trials of the five families, every array identical).
 """
 
 from __future__ import annotations
+
+from collections.abc import Callable
 
 import numpy as np
 
@@ -58,4 +61,34 @@ def damage_recording(rng: np.random.Generator, t: np.ndarray, rad: np.ndarray, t
     return stamp, angle, torque
 
 
-__all__ = ["damage_recording", "draw_subject", "trial_rng"]
+def protocol_set_up(rng: np.random.Generator, kind: str,
+                    joint_motion: Callable[[np.random.Generator, float, float], np.ndarray],
+                    afo_motion: Callable[[np.random.Generator], np.ndarray]
+                    ) -> tuple[dict[str, float], float, float, np.ndarray]:
+    """(the fixed joints' set angles in degrees, the range's low and high end in degrees, the angle in degrees) of one
+    trial: a knee swept over 3–12° to 80–95° at a hip set to 90, 55 or 15°; an ankle over −32…−22° to 10–20° at a
+    knee set to 0, 45 or 90°, the family's ``joint_motion(rng, lo, hi)`` between them; an orthosis bent by its
+    ``afo_motion(rng)`` from 0° to its largest bend."""
+    fixed: dict[str, float] = {}
+    if kind == "knee":
+        fixed = {"hip_flexion_deg": float(rng.choice([90.0, 55.0, 15.0])), "ankle_dorsiflexion_deg": 0.0}
+        lo, hi = float(rng.uniform(3.0, 12.0)), float(rng.uniform(80.0, 95.0))
+        return fixed, lo, hi, joint_motion(rng, lo, hi)
+    if kind == "ankle":
+        fixed = {"knee_flexion_deg": float(rng.choice([0.0, 45.0, 90.0])), "hip_flexion_deg": 90.0}
+        lo, hi = float(rng.uniform(-32.0, -22.0)), float(rng.uniform(10.0, 20.0))
+        return fixed, lo, hi, joint_motion(rng, lo, hi)
+    deg = afo_motion(rng)
+    return fixed, 0.0, float(deg.max()), deg
+
+
+def kinematics(deg: np.ndarray, rate: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(time s, angle rad, angular velocity rad/s, angular acceleration rad/s²) of an angle (degrees) sampled at
+    ``rate`` Hz (central differences)."""
+    t = np.arange(deg.size) / rate
+    rad = np.radians(deg)
+    vel = np.gradient(rad, t)
+    return t, rad, vel, np.gradient(vel, t)
+
+
+__all__ = ["damage_recording", "draw_subject", "kinematics", "protocol_set_up", "trial_rng"]
