@@ -65,6 +65,10 @@ class ForcePlateSimulator:
         #: the counter at which the operator began the trial's bends (:meth:`begin_bends`); None: the
         #: operator bends over and over from power-up (a free-running stream)
         self.bend_origin: int | None = None
+        #: held while samples are drawn and sent, so that the lab's ``begin_bends`` starts the bends at
+        #: a counter not sent yet (a host stall between choosing the counter and setting it cannot put
+        #: sent samples on both sides of the cue)
+        self.lock = threading.Lock()
         self._noise_table: np.ndarray | None = None
         self._noise_seed = seed + 1
         if autostart:
@@ -195,17 +199,19 @@ class ForcePlateSimulator:
         return int((now - self._t0) * self.rate_hz) - self.counter
 
     def _advance_counter(self, now: float) -> None:
-        self.counter += max(0, self._due(now))
+        with self.lock:
+            self.counter += max(0, self._due(now))
 
     def _emit(self, now: float, silent: bool) -> None:
-        n = self._due(now)
-        if n <= 0:
-            return
-        counters = np.arange(self.counter, self.counter + n)
-        self.counter += n
-        if silent:
-            return
-        counts = p.counts_from_loads(self.loads_at(counters), self.info)
+        with self.lock:
+            n = self._due(now)
+            if n <= 0:
+                return
+            counters = np.arange(self.counter, self.counter + n)
+            self.counter += n
+            if silent:
+                return
+            counts = p.counts_from_loads(self.loads_at(counters), self.info)
         # the trigger input: the camera system's sync output, one pulse a second on its frame 0, 100, ...
         # (plate and cameras share a time origin, so that is plate sample 0, 1000, ...)
         trigger = (counters % self.rate_hz) == 0

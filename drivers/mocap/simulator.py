@@ -48,6 +48,11 @@ class MarkerSimulator:
         self._table: np.ndarray | None = None
         #: the frame at which the operator began the trial's bends (see ForcePlateSimulator.begin_bends)
         self.bend_origin: int | None = None
+        #: held while frames are drawn, so that the lab's :meth:`SimulatedLab.begin_bends` starts the
+        #: bends at a frame no driver has read yet
+        self.lock = threading.Lock()
+        #: one past the newest frame any driver has read
+        self.frames_served = 0
         self._noise_table: np.ndarray | None = None
         self._noise_seed = seed + 7
         with _registry_lock:
@@ -63,6 +68,11 @@ class MarkerSimulator:
 
     def frames(self, first: int, count: int) -> np.ndarray:
         """Noisy marker positions (count, markers, 3) in m for frames ``first``..``first+count-1``."""
+        with self.lock:
+            self.frames_served = max(self.frames_served, first + count)
+            return self._frames(first, count)
+
+    def _frames(self, first: int, count: int) -> np.ndarray:
         n = int(round(self.jig.profile.duration_s * self.rate_hz))
         if self._table is None:
             st = self.jig.state(np.arange(n) / self.rate_hz)

@@ -20,6 +20,8 @@ from .replica_leg import ReplicaLeg
 from .seated_leg import SeatedLeg
 
 _channel_ids = itertools.count()
+#: a bend start no trial reaches (counter ≈ 146 years at 1 kHz): the operator rests until the cue
+_NOT_YET = 1 << 52
 
 
 @dataclass
@@ -74,15 +76,30 @@ class SimulatedLab:
             "mocap": self.mocap.url,
         }
 
+    def hold_bends(self) -> None:
+        """The simulated operator holds the AFO at rest until :meth:`begin_bends` (instead of bending
+        over and over from power-up, the free-running stream's operator)."""
+        plate, cams = self.force_plate, self.mocap
+        with plate.lock, cams.lock:
+            plate.begin_bends(_NOT_YET)
+            cams.bend_origin = _NOT_YET // (plate.rate_hz // cams.rate_hz)
+
     def begin_bends(self, lead_s: float = 0.05) -> float:
         """The simulated operator starts the trial's bends ``lead_s`` from now, at a plate counter on a
         motion-capture frame (plate and cameras share one time origin); returns the host time (s,
-        ``time.monotonic``) of the first bend sample."""
+        ``time.monotonic``) of the first bend sample.
+
+        The start is chosen and set while both simulators are held, and never before a sample or
+        frame already sent: a host stalled longer than ``lead_s`` (a loaded machine) starts the bends
+        later, never with some sent samples showing another pass of the operator than the rest."""
         plate, cams = self.force_plate, self.mocap
         per_frame = plate.rate_hz // cams.rate_hz
-        counter = int(np.ceil(((time.monotonic() + lead_s) - plate.time_origin_s) * plate.rate_hz / per_frame)) * per_frame
-        plate.begin_bends(counter)
-        cams.bend_origin = counter // per_frame
+        with plate.lock, cams.lock:
+            wanted = ((time.monotonic() + lead_s) - plate.time_origin_s) * plate.rate_hz
+            first_unsent = max(float(plate.counter), float(cams.frames_served * per_frame))
+            counter = int(np.ceil(max(wanted, first_unsent) / per_frame)) * per_frame
+            plate.begin_bends(counter)
+            cams.bend_origin = counter // per_frame
         return plate.time_origin_s + counter / plate.rate_hz
 
     def close(self) -> None:

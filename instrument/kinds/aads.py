@@ -309,9 +309,10 @@ class AadsKind(TrialKind):
         assert isinstance(protocol, AadsProtocol)
         # the simulated operator lifts the AFO off the plate for zeroing (this lab's plate, every time)
         protocol.unload = lambda off: setattr(lab.force_plate, "specimen_on_plate", not off)
-        # on the protocol's cue the operator bends through one pass of its profile, then rests; a trial
+        # on the protocol's cue (at rest before it) the operator bends through one pass of its profile, then rests; a trial
         # asked to last at least the pass records all of it, so the same seed records the same bends
         # whatever the host's timing (the lab day's do)
+        lab.hold_bends()  # at rest until the cue
         protocol.begin_bends = lambda: lab.begin_bends(lead_s=BEND_LEAD_S)
         protocol.duration_s = min(protocol.duration_s, lab.jig.profile.duration_s + BEND_LEAD_S + 0.2)
 
