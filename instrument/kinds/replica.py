@@ -137,6 +137,18 @@ class ReplicaProtocol(TrialProtocol):
                 "shank can be lifted off the sensor for the tare"]
 
 
+def holds_short_of_readings(tables: Sequence[TrialTable], share: float = 0.5) -> list[float]:
+    """The hold angles (deg) at which no table read at least ``share`` of the hold's conversions (a host stalled
+    past the transmitter's history: counted, and a spring's rest length between two holds 16° apart is then not
+    determined): the trial is repeated, and the repeats' holds pooled. Tables without a numbering transmitter
+    (no counts) have no short holds."""
+    best: dict[float, float] = {}
+    for t in tables:
+        for angle, read, window in t.sidecar.get("hold_readings", []):
+            best[float(angle)] = max(best.get(float(angle), 0.0), float(read) / max(float(window), 1.0))
+    return sorted(a for a, got in best.items() if got < share)
+
+
 def holds_of(tables: list[TrialTable]) -> Holds:
     """The holds of one or more replica trials (repeats at the same angle are pooled).
 
@@ -211,6 +223,7 @@ class ReplicaKind(TrialKind):
         by_counter = rate > 0.0 and counter is not None and len(counter) == len(t)
         parts = []
         missed = 0
+        readings: list[list[float]] = []  # per hold: angle (deg), conversions read, conversions in its window
         # time in the trial from the first hold's first conversion (or, host-timed, its first sample),
         # counted in whole conversions so that the same conversion has the same time in every run
         first: dict[str, Any] = next((e for e in trial.events if e.get("kind") == "hold"), {})
@@ -220,7 +233,9 @@ class ReplicaKind(TrialKind):
                 if origin_sample is not None and "first_sample" in e:
                     assert counter is not None
                     m = (counter >= int(e["first_sample"])) & (counter <= int(e["last_sample"]))
-                    missed += int(e["last_sample"]) - int(e["first_sample"]) + 1 - int(m.sum())
+                    window = int(e["last_sample"]) - int(e["first_sample"]) + 1
+                    missed += window - int(m.sum())
+                    readings.append([float(e["knee_flexion_deg"]), int(m.sum()), window])
                     when = (counter[m] - origin_sample).astype(float) / rate
                 else:
                     m = (t >= e["t_start_s"]) & (t <= e["t_end_s"])
@@ -242,7 +257,7 @@ class ReplicaKind(TrialKind):
                            "subject": {k: v for k, v in (subject or {}).items() if v is not None},
                            "source": trial.path.name, "trial_status": trial.status,
                            # conversions inside the holds that no poll read (the counter shows them)
-                           **({"hold_conversions_missed": missed} if by_counter else {})})
+                           **({"hold_conversions_missed": missed, "hold_readings": readings} if by_counter else {})})
 
     def analyse_set(self, protocol: TrialProtocol, trials: Sequence[Any], subject: dict[str, float], *,
                     figures_dir: Path | None = None,
@@ -251,6 +266,11 @@ class ReplicaKind(TrialKind):
         result, truth, figures = analyze_replica(tables, [t.metadata for t in trials], None, figures_dir)
         head, columns, rows = summary_table(result, truth)
         line, diagnosis_figures = diagnosis_line(tables, figures_dir)
+        short = holds_short_of_readings(tables)
+        if short:
+            line += (f"\nREPEAT: the hold{'s' * (len(short) > 1)} at {', '.join(f'{a:g}' for a in short)}° read fewer "
+                     "than half of their conversions (the host stalled past the transmitter's history); record the "
+                     "trial again, the repeats' holds are pooled")
         return SetAnalysis(f"{len(tables)} accepted replica trial{'s' * (len(tables) != 1)}: {head}", columns,
                            tuple(rows), tuple(str(f) for f in figures + diagnosis_figures), text(result, truth) + line)
 
@@ -269,4 +289,5 @@ class ReplicaKind(TrialKind):
 
 KIND = ReplicaKind()
 
-__all__ = ["HOLD_ANGLES_DEG", "KIND", "HoldStart", "ReplicaKind", "ReplicaProtocol", "analyze_replica", "holds_of"]
+__all__ = ["HOLD_ANGLES_DEG", "KIND", "HoldStart", "ReplicaKind", "ReplicaProtocol", "analyze_replica", "holds_of",
+           "holds_short_of_readings"]

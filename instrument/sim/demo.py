@@ -381,13 +381,28 @@ def replica_leg(out: Path) -> tuple[dict[str, Any], bool]:
     from analysis.errors import AnalysisError
     from analysis.pmp.replica import text, to_json
 
-    from ..kinds.replica import analyze_replica
+    from ..kinds.replica import ReplicaProtocol, analyze_replica, holds_short_of_readings
     from ..offline.loading import load_trials
     from ..store import SessionStore
+    from .lab_day import record_repeat
 
-    with SessionStore(out / "store", read_only=True) as store:
-        trials = load_trials([t for t in store.trials() if t.status == "recorded" and
-                              t.protocol in kinds.names_feeding(kinds.REPLICA_SPRINGS)], store)
+    def replica_trials() -> list[Any]:
+        with SessionStore(out / "store", read_only=True) as store:
+            return load_trials([t for t in store.trials() if t.status == "recorded" and
+                                t.protocol in kinds.names_feeding(kinds.REPLICA_SPRINGS)], store)
+
+    trials = replica_trials()
+    short = holds_short_of_readings([t.table() for t in trials])
+    if short and trials:
+        # a host stalled past the transmitter's history lost a hold's readings (counted in the trial): the operator
+        # repeats the trial, as a lab would, and the repeats' holds are pooled
+        print(f"  the replica trial's hold(s) at {', '.join(f'{a:g}' for a in short)}° read fewer than half of their "
+              "conversions (a stalled host; counted in the trial): recording it again")
+        first = trials[0].metadata["protocol"]["condition"]
+        with SessionStore(out / "store") as store:
+            record_repeat(store, ReplicaProtocol(hold_s=float(first["hold_s"])), seed=1000,
+                          note="repeat: a hold lost its readings")
+        trials = replica_trials()
     print(f"\nReplica leg: four springs (BFLH, BFSH, VASINT, RECFEM) from {len(trials)} trial(s) of static holds "
           "every 8°, hip 90° (sensor tared with the shank off) ...")
     try:

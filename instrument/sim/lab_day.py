@@ -127,6 +127,15 @@ def record_lab_day(store_dir: Path, quick: bool = True,
     return store, [o for o in outcomes if o is not None]
 
 
+def record_repeat(store: SessionStore, protocol: TrialProtocol, seed: int, note: str) -> TrialOutcome:
+    """Record one more trial of ``protocol`` for the day's subject in a session of its own (``note`` says why: the
+    operator repeats a trial whose data fell short), on a simulated lab drawn from ``seed``."""
+    session = store.new_session(SUBJECT.code, operator=f"{protocol.name}-operator", notes=note)
+    with simulated_devices(protocol, lab_config_for(protocol, seed=seed)) as (lab, devices):
+        return record_trial(store, session, protocol, devices, operator=f"{protocol.name}-operator", trial_number=2,
+                            extra_metadata=simulation_metadata(lab))
+
+
 def summary_rows(store: SessionStore) -> list[dict[str, Any]]:
     return [{"trial": t.id, "protocol": t.protocol, "status": t.status,
              "condition": {k: v for k, v in t.condition.items() if k in ("spring", "operator", "hip_flexion_deg",

@@ -155,3 +155,19 @@ def test_a_set_analysis_reads_as_text_and_round_trips_whatever_its_table(table: 
     assert lines[0] == "headline" and lines[-1] == "details"
     assert len(lines) == 2 + (1 + len(rows) if columns else 0)
     assert SetAnalysis.from_dict(json.loads(json.dumps(a.as_dict()))) == a
+
+
+def test_a_replica_hold_short_of_its_readings_asks_for_a_repeat_and_repeats_fill_it() -> None:
+    """A hold is short when no trial read half of its conversions (a stalled host): repeats at the same angle pool."""
+    from analysis.trial_csv import TrialTable
+    from instrument.kinds.replica import holds_short_of_readings
+
+    def table(readings: list[list[float]]) -> TrialTable:
+        return TrialTable({"time_s": np.zeros(0), "angle_deg": np.zeros(0), "torque_Nm": np.zeros(0)},
+                          {"kind": "replica", "hold_readings": readings})
+
+    first = table([[0.0, 30, 30], [8.0, 3, 30], [16.0, 15, 30], [24.0, 14, 30]])
+    assert holds_short_of_readings([first]) == [8.0, 24.0]
+    assert holds_short_of_readings([first, table([[8.0, 30, 30], [24.0, 2, 30]])]) == [24.0]
+    no_counter = TrialTable({"time_s": np.zeros(0), "angle_deg": np.zeros(0), "torque_Nm": np.zeros(0)}, {})
+    assert holds_short_of_readings([no_counter]) == []

@@ -47,3 +47,27 @@ def test_another_process_s_simulated_lab_answers_through_its_lab_file(tmp_path: 
     assert all("answers:" in ln for ln in lines), lines
     assert "CiA 402 (CANopen), limits ROM -35..95°" in lines[0]
     assert "hip_flexion (degrees)" in lines[3] and "rectus_femoris (V)" in lines[4]
+
+
+def test_the_demo_repeats_a_replica_trial_whose_hold_lost_its_readings(tmp_path: Path,
+                                                                          monkeypatch: pytest.MonkeyPatch) -> None:
+    """A host stalled past the transmitter's history loses a hold (counted): the demo records the trial again, as an
+    operator would, and fits the pooled holds."""
+    from instrument.kinds import replica
+    from instrument.kinds.replica import ReplicaProtocol
+    from instrument.sim import demo
+    from instrument.sim.lab_day import SUBJECT, record_repeat
+    from instrument.store import SessionStore
+
+    with SessionStore(tmp_path / "store") as store:
+        store.add_subject(SUBJECT)
+        first = record_repeat(store, ReplicaProtocol(hold_s=0.5), seed=9, note="the day's replica trial")
+    assert first.status == "recorded"
+    real = replica.holds_short_of_readings
+    # the first trial's hold at 8° taken as lost (a stall cannot be made on demand); with the repeat it is pooled
+    monkeypatch.setattr(replica, "holds_short_of_readings",
+                        lambda tables, share=0.5: [8.0] if len(tables) == 1 else real(tables, share))
+    result, ok = demo.replica_leg(tmp_path)
+    assert ok and {"VASINT.stiffness_n_per_m", "RECFEM.stiffness_n_per_m"} <= set(result["determined"])
+    with SessionStore(tmp_path / "store", read_only=True) as store:
+        assert [t.protocol for t in store.trials()] == ["replica", "replica"]
