@@ -39,12 +39,13 @@ from . import (
     family_j_truth,
     family_k_truth,
     family_l_truth,
+    family_m_truth,
 )
 from .family_b_truth import EFFECTS, FamilyBTrial
 
 #: the generator families this harness runs, same effects and scoring: the second (run once on the frozen engine
-#: of 081911c, since development data) and the third to twelfth (:mod:`benchmarks.diagnosis_family_c` …
-#: ``diagnosis_family_l``, each run once on its frozen engine)
+#: of 081911c, since development data) and the third to thirteenth (:mod:`benchmarks.diagnosis_family_c` …
+#: ``diagnosis_family_m``, each run once on its frozen engine)
 FAMILIES = {"b": (family_b_truth.generate_b, family_b_truth.MAGNITUDE_KEY),
             "c": (family_c_truth.generate_c, family_c_truth.MAGNITUDE_KEY),
             "d": (family_d_truth.generate_d, family_d_truth.MAGNITUDE_KEY),
@@ -55,7 +56,8 @@ FAMILIES = {"b": (family_b_truth.generate_b, family_b_truth.MAGNITUDE_KEY),
             "i": (family_i_truth.generate_i, family_i_truth.MAGNITUDE_KEY),
             "j": (family_j_truth.generate_j, family_j_truth.MAGNITUDE_KEY),
             "k": (family_k_truth.generate_k, family_k_truth.MAGNITUDE_KEY),
-            "l": (family_l_truth.generate_l, family_l_truth.MAGNITUDE_KEY)}
+            "l": (family_l_truth.generate_l, family_l_truth.MAGNITUDE_KEY),
+            "m": (family_m_truth.generate_m, family_m_truth.MAGNITUDE_KEY)}
 
 KINDS = ("afo", "knee", "ankle")
 #: pairs one trial cannot separate (the engine reports them ambiguous): not scored, as in benchmarks/diagnosis
