@@ -61,7 +61,7 @@ import numpy as np
 # the scoring contract every family shares with the harness (benchmarks.diagnosis_family_b): the effects each kind
 # may hide, the engine's magnitude key per cause, the trial record; the physics below is this family's own
 from .family_b_truth import EFFECTS, MAGNITUDE_KEY, FamilyBTrial
-from .family_scaffold import damage_recording, draw_subject, kinematics, protocol_set_up, trial_rng
+from .family_scaffold import damage_recording, draw_subject, kinematics, protocol_set_up, segment_direction, trial_rng
 
 GRAVITY = 9.81
 NOISE_SD_NM = {"afo": 0.06, "knee": 0.18, "ankle": 0.12}
@@ -155,14 +155,6 @@ def _coefficients(rng: np.random.Generator, kind: str, lo: float, hi: float) -> 
             "on_low": lo + rng.uniform(0.2, 0.45) * span, "on_high": hi - rng.uniform(0.2, 0.45) * span,
             "p_low": float(rng.uniform(2.5, 4.0)), "p_high": float(rng.uniform(2.5, 4.0)),
             "shift": float(rng.uniform(0.05, 0.2)), "linear": float(rng.uniform(0.0, 0.02)), "lo": lo, "hi": hi}
-
-
-def segment_direction(kind: str, rad: np.ndarray, fixed: dict[str, float]) -> np.ndarray:
-    """The distal segment's direction (rad from the horizontal, sagittal plane): the knee's shank horizontal at 0°
-    flexion (the thigh horizontal), the foot's from the ankle angle and the knee's flexion."""
-    if kind == "knee":
-        return -rad
-    return rad + np.pi / 2 - np.radians(fixed["knee_flexion_deg"])
 
 
 def _limb(kind: str, rad: np.ndarray, fixed: dict[str, float], mass: float, shank: float, foot: float,

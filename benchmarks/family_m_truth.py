@@ -68,7 +68,7 @@ from scipy.signal import lfilter
 # the scoring contract every family shares with the harness (benchmarks.diagnosis_family_b): the effects each kind
 # may hide, the engine's magnitude key per cause, the trial record; the physics below is this family's own
 from .family_b_truth import EFFECTS, MAGNITUDE_KEY, FamilyBTrial
-from .family_scaffold import damage_recording, draw_subject, kinematics, protocol_set_up, trial_rng
+from .family_scaffold import damage_recording, draw_subject, kinematics, protocol_set_up, segment_direction, trial_rng
 
 GRAVITY = 9.81
 NOISE_SD_NM = {"afo": 0.07, "knee": 0.17, "ankle": 0.13}
@@ -231,14 +231,6 @@ def _coefficients(rng: np.random.Generator, kind: str, lo: float, hi: float, lar
             "contour_low": float(rng.uniform(1.15, 1.6)) * farthest_low,
             "contour_high": float(rng.uniform(1.15, 1.6)) * farthest_high,
             "linear": float(rng.uniform(0.0, 0.02)), "lo": lo, "hi": hi}
-
-
-def segment_direction(kind: str, rad: np.ndarray, fixed: dict[str, float]) -> np.ndarray:
-    """The distal segment's direction (rad from the horizontal, sagittal plane): the knee's shank horizontal at 0°
-    flexion (the thigh horizontal), the foot's from the ankle angle and the knee's flexion."""
-    if kind == "knee":
-        return -rad
-    return rad + np.pi / 2 - np.radians(fixed["knee_flexion_deg"])
 
 
 def _limb(kind: str, rad: np.ndarray, fixed: dict[str, float], mass: float, shank: float, foot: float,

@@ -1,8 +1,9 @@
 """Scaffolding the later generator families share (not their physics): a trial's random stream from its family,
-kind, effects and seed (the fifth to twelfth families), the subject drawn for a trial (the sixth to twelfth), a lab
-recording's damage (the seventh to twelfth): quantised torque and angle (with an angle offset), a clock fast or
-slow with jitter, rows dropped singly and in runs, NaN cells in any column; and the protocol's set-up (the ninth to
-twelfth): the other joint's set angle, the swept range and the motion's kinematics.
+kind, effects and seed (the fifth to thirteenth families), the subject drawn for a trial (the sixth to thirteenth), a lab
+recording's damage (the seventh to thirteenth): quantised torque and angle (with an angle offset), a clock fast or
+slow with jitter, rows dropped singly and in runs, NaN cells in any column; the protocol's set-up (the ninth to
+thirteenth): the other joint's set angle, the swept range and the motion's kinematics; and the distal segment's
+direction in the sagittal plane (the tenth, twelfth and thirteenth).
 
 Each family draws its own ranges; the draws are made in one fixed order, so a family's trials are the same as when
 each wrote these out (checked on 450 trials of the five families, every array identical).
@@ -82,6 +83,14 @@ def protocol_set_up(rng: np.random.Generator, kind: str,
     return fixed, 0.0, float(deg.max()), deg
 
 
+def segment_direction(kind: str, rad: np.ndarray, fixed: dict[str, float]) -> np.ndarray:
+    """The distal segment's direction (rad from the horizontal, sagittal plane): the knee's shank horizontal at 0°
+    flexion (the thigh horizontal), the foot's from the ankle angle and the knee's flexion."""
+    if kind == "knee":
+        return -rad
+    return rad + np.pi / 2 - np.radians(fixed["knee_flexion_deg"])
+
+
 def kinematics(deg: np.ndarray, rate: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(time s, angle rad, angular velocity rad/s, angular acceleration rad/s²) of an angle (degrees) sampled at
     ``rate`` Hz (central differences)."""
@@ -91,4 +100,4 @@ def kinematics(deg: np.ndarray, rate: float) -> tuple[np.ndarray, np.ndarray, np
     return t, rad, vel, np.gradient(vel, t)
 
 
-__all__ = ["damage_recording", "draw_subject", "kinematics", "protocol_set_up", "trial_rng"]
+__all__ = ["damage_recording", "draw_subject", "kinematics", "protocol_set_up", "segment_direction", "trial_rng"]

@@ -392,8 +392,9 @@ def replica_leg(out: Path) -> tuple[dict[str, Any], bool]:
                                 t.protocol in kinds.names_feeding(kinds.REPLICA_SPRINGS)], store)
 
     trials = replica_trials()
-    short = holds_short_of_readings([t.table() for t in trials])
-    if short and trials:
+    tables = [t.table() for t in trials]
+    short = holds_short_of_readings(tables)
+    if short:
         # a host stalled past the transmitter's history lost a hold's readings (counted in the trial): the operator
         # repeats the trial, as a lab would, and the repeats' holds are pooled
         print(f"  the replica trial's hold(s) at {', '.join(f'{a:g}' for a in short)}° read fewer than half of their "
@@ -403,10 +404,10 @@ def replica_leg(out: Path) -> tuple[dict[str, Any], bool]:
             record_repeat(store, ReplicaProtocol(hold_s=float(first["hold_s"])), seed=1000,
                           note="repeat: a hold lost its readings")
         trials = replica_trials()
+        tables = [t.table() for t in trials]
     print(f"\nReplica leg: four springs (BFLH, BFSH, VASINT, RECFEM) from {len(trials)} trial(s) of static holds "
           "every 8°, hip 90° (sensor tared with the shank off) ...")
     try:
-        tables = [t.table() for t in trials]
         result, truth, _ = analyze_replica(tables, [t.metadata for t in trials], None, out / "replica")
     except AnalysisError as err:
         print(f"  PROBLEM: {err}")
