@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+from scipy.signal import lfilter
 
 from ..errors import InputError
 from .data import DiagnosisTrial
@@ -150,6 +151,29 @@ class Prepared:
         """The baseline basis at ``theta`` (rad; default the measured angle)."""
         return baseline_columns(self.trial.kind, self.theta if theta is None else theta, self.lo, self.hi,
                                 self.flexible, self.end_terms)
+
+    def lagged(self, values_whole: np.ndarray, tau_s: float) -> np.ndarray:
+        """``values_whole`` (rows on the whole trial's time) through a first-order low-pass whose group delay at
+        low frequency is ``tau_s`` (s), started at rest on the first row, read at the kept samples. The filter
+        steps at the trial's median sample interval h (a dropped row shortens its memory by one step), with the
+        pole a = τ/(τ + h): its delay a·h/(1 − a) is then τ exactly (e^{−h/τ}, the sampled analogue filter, delays
+        by about h/2 less, which read a filtered channel half a sample long)."""
+        t = self.t if self.t_whole is None else self.t_whole
+        y = np.asarray(values_whole, dtype=float)
+        if tau_s > 0.0 and y.shape[0] > 1:
+            step = float(np.median(np.diff(t)))
+            a = tau_s / (tau_s + step)
+            y = lfilter([1.0 - a], [1.0, -a], y, axis=0, zi=a * y[:1])[0]
+        if y.ndim == 1:
+            return np.interp(self.t, t, y)
+        return np.column_stack([np.interp(self.t, t, y[:, j]) for j in range(y.shape[1])])
+
+    def lagged_known(self, tau_s: float) -> np.ndarray:
+        """How much the known torque (N·m) read through a first-order lag of ``tau_s`` differs from it read on
+        time, at each kept sample (the lag's counterpart of :meth:`delayed_known`)."""
+        if self.known_whole is None or self.known is None or self.t_whole is None:
+            return np.zeros(self.t.size)
+        return self.lagged(self.known_whole, tau_s) - self.known
 
     def delayed_theta(self, delay_s: float) -> tuple[np.ndarray, np.ndarray]:
         """The angle (rad) ``delay_s`` earlier at each kept sample, read from the whole trial (across an AFO's
@@ -306,6 +330,38 @@ def _delayed_columns(prep: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray,
     # the delayed angle must lie in the range the trial describes (an AFO's is cut at the spring's engagement)
     valid = inside & (th >= prep.lo)
     return prep.baseline(th), np.zeros((prep.t.size, 0)), valid
+
+
+def _lagged(prep: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    return _cached(prep, ("lag", nl[0]), lambda: _lagged_columns(prep, nl))
+
+
+def _lagged_columns(prep: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The baseline read through a first-order lag of ``nl[0]`` s: the filter is linear, so the lagged model is
+    the lagged basis times the same coefficients. Below an orthosis's cut (its spring's engagement) the basis is
+    held at the cut's value (the spring's torque there is what the filter remembers). Valid at every kept sample:
+    the filter starts at rest on the first row and needs no history before it (a pure delay does; the BIC weights
+    compare the two on the samples both predict: evidence.average_variants)."""
+    tau = nl[0]
+    theta = prep.theta if prep.theta_whole is None else prep.theta_whole
+    if prep.trial.kind == "afo":
+        theta = np.maximum(theta, prep.lo)
+    columns = prep.lagged(baseline_columns(prep.trial.kind, theta, prep.lo, prep.hi, prep.flexible, prep.end_terms),
+                          tau)
+    return columns, np.zeros((prep.t.size, 0)), np.ones(prep.t.size, dtype=bool)
+
+
+def delay_cause(law: str) -> Cause:
+    """The time-delay cause: ``"pure"`` (the torque channel read ``d`` late: a transport delay, a clock offset) or
+    ``"first-order lag"`` (the channel through a low-pass of time constant τ: a filtered amplifier). ``delay_s``
+    is the group delay at low frequency in both (d, τ), so the two laws' magnitudes are one quantity."""
+    if law == "pure":
+        return Cause("time_delay", "the torque channel lagging the angle channel", ("afo", "knee", "ankle"), _delayed,
+                     lambda c, nl: {"delay_s": float(nl[0])}, "delay_s", lambda p: [delay_grid(p)], hysteretic=True,
+                     offset=lambda p, nl: p.delayed_known(nl[0]))
+    return Cause("time_delay", "the torque channel lagging the angle channel through a first-order low-pass",
+                 ("afo", "knee", "ankle"), _lagged, lambda c, nl: {"delay_s": float(nl[0])}, "delay_s",
+                 lambda p: [delay_grid(p)], hysteretic=True, offset=lambda p, nl: p.lagged_known(nl[0]))
 
 
 def _compliant(prep: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -526,6 +582,8 @@ def burst_cause(shape: str) -> Cause:
 #: the cause with that shape), over which a named cause's magnitude is averaged
 SHAPE_VARIANTS: dict[str, dict[str, Callable[[], Cause]]] = {
     "activation_burst": {shape: functools.partial(burst_cause, shape) for shape in BURST_SHAPES},
+    # a channel's lag: a transport delay, or a filter's (same parameter count; magnitude the group delay)
+    "time_delay": {law: functools.partial(delay_cause, law) for law in ("pure", "first-order lag")},
 }
 #: laws of one cause with different numbers of parameters: the search uses the one with the lowest BIC on the
 #: trial (evidence.likeliest_law); the first is the simplest
@@ -572,9 +630,7 @@ CAUSES: dict[str, Cause] = {c.name: c for c in [
     Cause("gravity_error", "a segment mass or centre-of-mass error (torque error sinusoidal in angle)",
           ("knee", "ankle"), lambda p, nl: _plain(p, p.gravity_shape),
           lambda c, nl: {"gravity_moment_error_Nm": float(c[0])}, "gravity_moment_error_Nm"),
-    Cause("time_delay", "the torque channel lagging the angle channel", ("afo", "knee", "ankle"), _delayed,
-          lambda c, nl: {"delay_s": float(nl[0])}, "delay_s", lambda p: [delay_grid(p)], hysteretic=True,
-          offset=lambda p, nl: p.delayed_known(nl[0])),
+    delay_cause("pure"),
     Cause("inertia", "torque proportional to angular acceleration beyond the known limb and arm inertia "
           "(a moving mass not accounted for)",
           ("knee", "ankle"), lambda p, nl: _plain(p, p.alpha), lambda c, nl: {"inertia_kgm2": float(c[0])}, "inertia_kgm2",

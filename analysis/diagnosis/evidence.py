@@ -59,6 +59,8 @@ def parameter_se(prep: Prepared, cause: Cause, fit: CauseFit, n_eff: float) -> d
     free = np.ones(x.shape[1], dtype=bool)
     free[fit.n_base:] = ~((fit.coef[fit.n_base:] == 0.0) & (np.array(_signs(cause)) != 0))
     jac = np.column_stack([x[:, free]] + [d[:, None] for d in shifted])[valid]
+    if jac.shape[0] <= jac.shape[1]:
+        return {}  # no sample (or too few) where the model is defined: no standard error
     dof = max(fit.n - fit.n_params, 1)
     s2 = fit.rss / dof * (fit.n / n_eff)
     scale = np.maximum(np.abs(jac).max(axis=0), 1e-12)
@@ -198,7 +200,8 @@ def magnitude_variants(prep: Prepared, cause_name: str, stop_angle_rad: float = 
       truth 262 → 264; pairs 168 → 171 and 171 → 173 of 234; 13 % more time per trial.
 
     - A law (:data:`causes.LAW_VARIANTS`): smooth Coulomb laws with or without a Stribeck excess; a linear or
-      smooth drift. A shape (:data:`causes.SHAPE_VARIANTS`): burst shapes. With one shape only,
+      smooth drift. A shape (:data:`causes.SHAPE_VARIANTS`): burst shapes; a delay's law (a transport delay or a
+      first-order low-pass, by the same group delay; policy.py says what it changed). With one shape only,
       the 95 % intervals held the independent generator's truth (an arctan friction law, a Hann burst)
       for friction amplitudes in 0.57 (AFO), 0.69 (knee), 0.80 (ankle) of trials and for burst
       amplitudes in 0.78–0.80 (seeds 140000–141001).
@@ -230,6 +233,7 @@ def average_variants(variants: list[tuple[str, Prepared, dict[str, Cause]]], nam
     """The final model ``names`` refitted in each variant, weighted by exp(−ΔBIC/2) at ``n_eff``
     (``library``: the causes by name, default :data:`causes.CAUSES`)."""
     out = []
+    fitted = []
     for label, prep, replace in variants:
         parts = [replace.get(n, (library or CAUSES)[n]) for n in names]
         if len(parts) == 1:
@@ -238,7 +242,14 @@ def average_variants(variants: list[tuple[str, Prepared, dict[str, Cause]]], nam
             cause = compound(parts[0], parts[1])
             a, b = cause.parts
             f = fit_cause(prep, cause, start=fit_cause(prep, a).nonlinear + fit_cause(prep, b).nonlinear)
+        fitted.append((prep, cause, f))
         out.append(VariantFit(label, bic(f, n_eff), f.params, parameter_se(prep, cause, f, n_eff)))
+    # the weights compare the variants on the samples every one of them predicts: a pure delay predicts none of
+    # the first d seconds, a lag law all of them, and a BIC over different samples is no comparison
+    common = np.logical_and.reduce([np.isfinite(f.prediction) for _, _, f in fitted])
+    if not all(bool(np.array_equal(common, np.isfinite(f.prediction))) for _, _, f in fitted) and common.sum() > 10:
+        for o, (prep, cause, f) in zip(out, fitted, strict=True):
+            o.weight = bic(fit_cause(prep, cause, common, refine=False, start=f.nonlinear), n_eff)
     low = min(o.weight for o in out)
     w = np.array([math.exp(-0.5 * (o.weight - low)) for o in out])
     for o, wi in zip(out, w / w.sum(), strict=True):
