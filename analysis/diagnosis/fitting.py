@@ -20,6 +20,7 @@ from .causes import (
     burst_bounds,
     normal_lstsq,
 )
+from .policy import MIN_PREDICTED_SHARE
 
 
 @dataclass
@@ -117,6 +118,15 @@ def _rss(prep: Prepared, cause: Cause, nl: tuple[float, ...], mask: np.ndarray) 
     return max(rss, 0.0), n
 
 
+def _mean_square(prep: Prepared, cause: Cause, nl: tuple[float, ...], mask: np.ndarray) -> float:
+    """The mean square residual (N·m²) of ``cause`` at ``nl`` on ``mask``, or infinity where the model predicts fewer
+    than :data:`policy.MIN_PREDICTED_SHARE` of the samples: a delay whose delayed angle leaves the range the trial
+    describes for most samples (a long delay beside an orthosis's short bends) is no model of the trial, and its mean
+    square over the few samples left, or over none, would win any search."""
+    rss, n = _rss(prep, cause, nl, mask)
+    return rss / n if n >= max(MIN_PREDICTED_SHARE * int(mask.sum()), 1) else math.inf
+
+
 def _refine_scalar(fun: Any, grid: np.ndarray, v: float) -> float:
     i = int(np.argmin(np.abs(grid - v)))
     lo, hi = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
@@ -138,16 +148,15 @@ def _grid_rows(grids: list[np.ndarray] | np.ndarray) -> list[tuple[float, ...]]:
 def _search(prep: Prepared, cause: Cause, mask: np.ndarray, refine: bool) -> tuple[float, ...]:
     """Best nonlinear parameters of a single cause: the grid, then a bounded refinement."""
     grids = cause.grid(prep)
-    best: tuple[float, tuple[float, ...]] = (math.inf, ())
-    for nl in _grid_rows(grids):
-        rss, n = _rss(prep, cause, nl, mask)
-        score = rss / max(n, 1)  # mean square: a delay drops the first samples
+    rows = _grid_rows(grids)
+    best: tuple[float, tuple[float, ...]] = (math.inf, rows[0])
+    for nl in rows:
+        score = _mean_square(prep, cause, nl, mask)  # mean square: a delay drops the first samples
         if score < best[0]:
             best = (score, nl)
     nl = best[1]
-    if refine and not isinstance(grids, np.ndarray) and len(grids) == 1:
-        nl = (_refine_scalar(lambda v: _rss(prep, cause, (v,), mask)[0] / max(_rss(prep, cause, (v,), mask)[1], 1),
-                             grids[0], nl[0]),)
+    if refine and math.isfinite(best[0]) and not isinstance(grids, np.ndarray) and len(grids) == 1:
+        nl = (_refine_scalar(lambda v: _mean_square(prep, cause, (v,), mask), grids[0], nl[0]),)
     elif refine and cause.name == "activation_burst":  # (start, duration), held to the physiological bounds
         def f(v: np.ndarray) -> float:
             return _rss(prep, cause, burst_bounds(prep, (float(v[0]), float(v[1]))), mask)[0]
@@ -188,9 +197,9 @@ def fit_cause(prep: Prepared, cause: Cause, mask: np.ndarray | None = None, refi
                         prep.grid_residual = None
                     for row in rows:
                         cand = nl[:lo_i] + row + nl[hi_i:]
-                        rss, n = _rss(prep, cause, cand, mask)
-                        if rss / max(n, 1) < best[0]:
-                            best = (rss / max(n, 1), cand)
+                        score = _mean_square(prep, cause, cand, mask)
+                        if score < best[0]:
+                            best = (score, cand)
                     nl = best[1]
             nl = tuple(nl)
             if refine:
@@ -203,8 +212,7 @@ def fit_cause(prep: Prepared, cause: Cause, mask: np.ndarray | None = None, refi
                         # beside a second cause it let that cause take up what the tanh law misses of an arctan
                         # friction (`benchmarks diagnosis` singles 0.982 → 0.956: friction + damping, burst, stop)
                         def g(v: float, lo_i: int = lo_i, nl: tuple[float, ...] = nl) -> float:
-                            rss, n = _rss(prep, cause, nl[:lo_i] + (v,) + nl[lo_i + 1:], mask)
-                            return rss / max(n, 1)
+                            return _mean_square(prep, cause, nl[:lo_i] + (v,) + nl[lo_i + 1:], mask)
                         nl = nl[:lo_i] + (_refine_scalar(g, grids[0], nl[lo_i]),) + nl[lo_i + 1:]
                         continue
                     if part.name != "activation_burst":

@@ -69,6 +69,11 @@ MAX_RATE_HZ = 200.0  # the diagnosis works on block means at this rate at most (
 #: and there are q times fewer, so the criterion's evidence (n_eff · ln MSE ratio) is unchanged to first order
 MAX_SAMPLES = 15_000
 MIN_RATE_HZ = 50.0
+#: a model (a delay's grid value, say) must predict at least this share of the samples it is fitted on to be compared
+#: by its mean square at all: a delay whose delayed angle leaves an orthosis's described range (below its spring's
+#: engagement) for most samples fitted the few left, or none, and won the search with a mean square of zero (the
+#: fourteenth family's first run crashed on such a fit: a candidate with no sample)
+MIN_PREDICTED_SHARE = 0.5
 #: a trial whose angle covers less than this fraction of its protocol's range (between its 1st and 99th
 #: percentiles) is refused: the baseline is a curve in angle, and a still or barely moving angle has none
 MIN_RANGE_FRACTION = 0.2
@@ -102,4 +107,4 @@ LAW_RIVAL_MIN_DELTA_BIC = 6.0
 __all__ = ["STRONG_HELDOUT_GAIN", "MAX_DELTA_BIC_WITH_STRONG_HELDOUT", "STRONG_MIN_HELDOUT_IMPROVEMENT",
            "LOCAL_STOP_T", "AFO_STOP_T", "AFO_STOP_MIN_HELDOUT_GAIN", "AFO_STOP_NOT_BESIDE",
            "AFO_STOP_MAX_DELTA_BIC", "MIN_PEAK_TO_NOISE", "MAX_RATE_HZ", "MAX_SAMPLES", "MIN_RATE_HZ",
-           "MIN_RANGE_FRACTION", "LAW_RIVAL_MIN_DELTA_BIC"]
+           "MIN_RANGE_FRACTION", "MIN_PREDICTED_SHARE", "LAW_RIVAL_MIN_DELTA_BIC"]

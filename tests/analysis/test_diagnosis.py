@@ -285,6 +285,24 @@ def test_a_pure_delay_keeps_the_pure_law() -> None:
     assert sum(float(w) for law, w in weights if law == "pure") > 0.5, note
 
 
+def test_a_delay_that_leaves_the_orthosis_range_for_most_samples_is_no_fit() -> None:
+    """An orthosis bent in short bends (1 s each, to 8–14°): a delay of most of a bend puts the delayed angle below the
+    spring's engagement at nearly every kept sample. Its mean square over the samples left (none at 1 s) won the
+    delay's grid and the diagnosis divided by zero; a model must predict at least half the samples to compete."""
+    rate = 200.0
+    parts = [np.zeros(80)]
+    for peak in np.linspace(8.0, 14.0, 6):
+        u = np.linspace(0.0, 1.0, int(rate))
+        parts += [peak * np.sin(np.pi * u) ** 2, np.zeros(int(0.3 * rate))]
+    deg = np.concatenate(parts)
+    t = np.arange(deg.size) / rate
+    bend = np.clip(deg - 3.0, 0.0, None)
+    torque = 1.2 * bend + 0.01 * bend**2 + np.random.default_rng(2).normal(0.0, 0.07, t.size)
+    d = diagnose(DiagnosisTrial("afo", t, np.radians(deg), torque, {}, {}, "short bends"))
+    assert d.cause == "none", d.text()
+    assert d.fits["time_delay"].n >= 0.5 * d.fits["none"].n
+
+
 def test_burst_candidates_start_at_their_samples_time_when_rows_are_missing() -> None:
     """The burst's matched filter names a sample; its start is that sample's time, not the first time plus the
     index times the step (with a fifth of the rows missing that put a burst at 30 s some 6 s early)."""
