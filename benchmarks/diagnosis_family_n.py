@@ -1,8 +1,8 @@
 """The diagnosis on the fourteenth generator family (:mod:`benchmarks.family_n_truth`), run once on the engine as it stood.
 
 The thirteenth family was run once (engine fec1546) and then used in development with the second to twelfth. The
-fourteenth was written in the round after, before that round's engine change, and run once on the frozen engine
-after it; its committed figures are measured, not tuned on. Same effects, seeds, scoring and keys as
+fourteenth was written in the round after (dfa6757), before that round's engine changes, and run once on the frozen
+engine after them (2698951); its committed figures are measured, not tuned on. Same effects, seeds, scoring and keys as
 :mod:`benchmarks.diagnosis_family_b` (``accuracy``, ``pair_accuracy``, ``false_alarm_rate``,
 ``magnitude_within_15pct``, ``interval_coverage``, ``seconds_per_trial``, the PySINDy peer's ``sindy_*`` twins), plus
 ``accuracy_or_untestable_said``.
