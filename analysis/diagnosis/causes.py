@@ -353,8 +353,8 @@ def _lagged_columns(prep: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray, 
 
 def delay_cause(law: str) -> Cause:
     """The time-delay cause: ``"pure"`` (the torque channel read ``d`` late: a transport delay, a clock offset) or
-    ``"first-order lag"`` (the channel through a low-pass of time constant τ: a filtered amplifier). ``delay_s``
-    is the group delay at low frequency in both (d, τ), so the two laws' magnitudes are one quantity."""
+    ``"first-order lag"`` (the channel through a first-order low-pass: a filtered amplifier). The parameter is the
+    group delay at low frequency in both (s), so the two laws' ``delay_s`` are one quantity."""
     if law == "pure":
         return Cause("time_delay", "the torque channel lagging the angle channel", ("afo", "knee", "ankle"), _delayed,
                      lambda c, nl: {"delay_s": float(nl[0])}, "delay_s", lambda p: [delay_grid(p)], hysteretic=True,
