@@ -68,7 +68,15 @@ from scipy.signal import lfilter
 # the scoring contract every family shares with the harness (benchmarks.diagnosis_family_b): the effects each kind
 # may hide, the engine's magnitude key per cause, the trial record; the physics below is this family's own
 from .family_b_truth import EFFECTS, MAGNITUDE_KEY, FamilyBTrial
-from .family_scaffold import damage_recording, draw_subject, kinematics, protocol_set_up, segment_direction, trial_rng
+from .family_scaffold import (
+    damage_recording,
+    draw_segments,
+    draw_subject,
+    kinematics,
+    protocol_set_up,
+    segment_direction,
+    trial_rng,
+)
 
 GRAVITY = 9.81
 NOISE_SD_NM = {"afo": 0.07, "knee": 0.17, "ankle": 0.13}
@@ -255,9 +263,7 @@ def generate_m(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Famil
     rng = trial_rng((13, 13, 7), kind, effects, seed)
     rate = float(rng.choice([100.0, 200.0, 500.0, 1000.0]))
     subject = draw_subject(rng)
-    seg = {"shank_mass": float(rng.uniform(0.043, 0.048)), "shank_centre": float(rng.uniform(0.40, 0.44)),
-           "shank_gyration": float(rng.uniform(0.28, 0.31)), "foot_mass": float(rng.uniform(0.012, 0.015)),
-           "foot_centre": float(rng.uniform(0.42, 0.48)), "foot_gyration": float(rng.uniform(0.23, 0.27))}
+    seg = draw_segments(rng)
     fixed, lo, hi, commanded = protocol_set_up(rng, kind, lambda r, a, b: servo_strokes(r, a, b, rate),
                                                lambda r: tremor_bends(r, rate))
     coef = _coefficients(rng, kind, lo, hi, float(commanded.max()))

@@ -37,6 +37,15 @@ def draw_subject(rng: np.random.Generator) -> dict[str, float]:
     return subject
 
 
+def draw_segments(rng: np.random.Generator) -> dict[str, float]:
+    """A trial's segment parameters within the published tables' spread (fractions): the shank 4.3–4.8 % of body
+    mass, its centre 40–44 % down from the knee, radius of gyration 28–31 % of its length; the foot 1.2–1.5 %,
+    42–48 %, 23–27 % (the thirteenth and fourteenth families)."""
+    return {"shank_mass": float(rng.uniform(0.043, 0.048)), "shank_centre": float(rng.uniform(0.40, 0.44)),
+            "shank_gyration": float(rng.uniform(0.28, 0.31)), "foot_mass": float(rng.uniform(0.012, 0.015)),
+            "foot_centre": float(rng.uniform(0.42, 0.48)), "foot_gyration": float(rng.uniform(0.23, 0.27))}
+
+
 def damage_recording(rng: np.random.Generator, t: np.ndarray, rad: np.ndarray, torque: np.ndarray, rate: float, *,
                      torque_quantum_nm: tuple[float, float], angle_quantum_deg: tuple[float, float],
                      clock_fraction: float, drop_fraction: float, run_s: float, nan_fraction: float
@@ -100,4 +109,4 @@ def kinematics(deg: np.ndarray, rate: float) -> tuple[np.ndarray, np.ndarray, np
     return t, rad, vel, np.gradient(vel, t)
 
 
-__all__ = ["damage_recording", "draw_subject", "kinematics", "protocol_set_up", "segment_direction", "trial_rng"]
+__all__ = ["damage_recording", "draw_segments", "draw_subject", "kinematics", "protocol_set_up", "segment_direction", "trial_rng"]
