@@ -30,6 +30,7 @@ BENCHMARKS = {"drivers": "benchmarks.drivers", "pmp_opensim": "benchmarks.pmp_op
               "diagnosis_family_l": "benchmarks.diagnosis_family_l",
               "diagnosis_family_m": "benchmarks.diagnosis_family_m",
               "diagnosis_family_n": "benchmarks.diagnosis_family_n",
+              "diagnosis_family_o": "benchmarks.diagnosis_family_o",
               "sindy_peer_families": "benchmarks.sindy_peer_families",
               "pmp_realistic": "benchmarks.pmp_realistic", "lsl": "benchmarks.lsl",
               "pmp_speed": "benchmarks.pmp_speed", "pmp_segment_scales": "benchmarks.pmp_segment_scales"}
