@@ -7,6 +7,17 @@ import os
 import pytest
 
 os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
+# one BLAS thread per worker: three workers on two cores with OpenBLAS's threads each spent more time switching than
+# solving (four diagnoses 26.7 s with its threads, 18.7 s with one, on this 2-core host); the variables reach the
+# subprocesses (OpenSim, fitting workers), threadpoolctl the BLAS a plugin may have loaded before this file
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+try:
+    from threadpoolctl import threadpool_limits
+
+    threadpool_limits(1)
+except ImportError:  # pragma: no cover - threadpoolctl comes with the test extra
+    pass
 # the suite already runs three workers on two cores: a model-level diagnosis spawning two more fitting
 # processes only adds contention and interpreter start-ups (one test asks for two workers explicitly)
 os.environ.setdefault("INSTRUMENT_FIT_WORKERS", "1")

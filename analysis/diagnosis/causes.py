@@ -80,7 +80,8 @@ END_EXP_RATES_PER_RAD: dict[str, tuple[tuple[float, ...], tuple[float, ...]]] = 
     "ankle": ((), (3.0, 9.0)),
 }
 
-#: the rates (1/rad) of the smooth stiffening a joint's stop competes with at its end (engine._Search.smooth_rival):
+#: the rates (1/rad) of the smooth curve a stop competes with at its end (engine._Search.smooth_rival), a joint's or an
+#: orthosis's:
 #: what passive tissue does. Published passive joint moments' exponential terms reach 0.195 /° = 11.2 /rad
 #: (Riener & Edrich 1999, ankle dorsiflexion; knee extension 0.150 /° = 8.6 /rad); the range runs to 20 /rad
 #: (an e-folding width of 2.9°) with that margin. A stiffening steeper than any passive tissue shows is a stop
@@ -230,16 +231,18 @@ def normal_lstsq(x: np.ndarray, y: np.ndarray) -> np.ndarray:
 def baseline_columns(kind: str, theta: np.ndarray, lo: float, hi: float, flexible: bool = False,
                      end_terms: tuple[tuple[str, float], ...] = ()) -> np.ndarray:
     """Baseline basis (n, p) at angles ``theta`` (rad); ``flexible`` adds the spline in angle;
-    ``end_terms`` adds exponentials (``"low"`` or ``"high"`` end, rate in 1/rad) to a joint's own."""
+    ``end_terms`` adds exponentials (``"low"`` or ``"high"`` end, rate in 1/rad) to the kind's own (a joint's
+    :data:`END_EXP_RATES_PER_RAD`, none for an orthosis's or a replica's spring)."""
     if kind in ("knee", "ankle"):
         cols = [np.ones_like(theta), theta, theta**2, theta**3]
         low_end, high_end = END_EXP_RATES_PER_RAD[kind]
-        low_end = low_end + tuple(r for end, r in end_terms if end == "low")
-        high_end = high_end + tuple(r for end, r in end_terms if end == "high")
-        cols += [np.exp(-rate * (theta - lo)) for rate in low_end]
-        cols += [np.exp(rate * (theta - hi)) for rate in high_end]
     else:
         cols = [np.ones_like(theta), theta, theta**2]
+        low_end, high_end = (), ()
+    low_end = low_end + tuple(r for end, r in end_terms if end == "low")
+    high_end = high_end + tuple(r for end, r in end_terms if end == "high")
+    cols += [np.exp(-rate * (theta - lo)) for rate in low_end]
+    cols += [np.exp(rate * (theta - hi)) for rate in high_end]
     if flexible:
         if kind not in ("knee", "ankle"):
             cols.append(theta**3)
@@ -655,6 +658,10 @@ SEPARATE_BY: dict[frozenset[str], str] = {
 #: what separates a joint's stop from a passive term steeper than the baseline's, when one trial cannot
 STOP_OR_STEEPER_END_HINT = ("a trial at a second fixed hip (knee) or knee (ankle) angle: a two-joint muscle's stiffening "
                             "moves with it, a stop does not; or the joint's range measured with a goniometer")
+#: ... and an orthosis's stop from its spring stiffening or softening outside the baseline's quadratic
+AFO_STOP_OR_SPRING_HINT = ("bends that go further past the stop's angle (a kink shows over the degrees past it, a "
+                           "spring's curve does not turn there), or the spring's own curve from its geometry "
+                           "(instrument analyze afo) to compare with")
 
 #: what a trial needs before a cause that the baseline absorbs can be seen
 UNTESTABLE_HINT: dict[str, str] = {

@@ -20,7 +20,9 @@ Selection, in order:
    mimic where angles are revisited); a hard stop also by its own test, the
    t statistic of its stiffness past a look-elsewhere-corrected level (:data:`LOCAL_STOP_T`) with
    held-out blocks predicted no worse (an orthosis's stop also at a
-   lower t with held-out blocks predicted clearly better: :data:`AFO_STOP_T`). A cause that is not a function of
+   lower t with held-out blocks predicted clearly better: :data:`AFO_STOP_T`), and, of any kind, only when it
+   predicts held-out blocks better than a smooth curve at its end of the range (a joint's steeper passive term, an
+   orthosis's spring off the quadratic: ``_Search.stop_beats_smooth_rival``). A cause that is not a function of
    angle alone must also lower the criterion against the *flexible* baseline (a spline in angle), and so must a
    series compliance, which in a slow trial only reshapes the curve in angle;
 5. a cause whose effect the baseline can mimic (R² > ``max_absorbed_r2`` of its effect direction
@@ -52,6 +54,7 @@ from scipy.optimize import minimize_scalar
 from ..errors import InputError
 from ..trial_csv import NOMINAL_RANGE_DEG
 from .causes import (
+    AFO_STOP_OR_SPRING_HINT,
     ARGUMENT_CAUSES,
     CAUSES,
     LAW_VARIANTS,
@@ -246,7 +249,7 @@ class _Search:
             ok = self.prep.trial.known_inertia_kgm2() + mf.params.get("inertia_kgm2", 0.0) > 0.0
         if ok and added.name == "hard_stop":
             ok = self.stop_peak_to_noise(model) >= MIN_PEAK_TO_NOISE
-            if ok and self.prep.trial.kind in ("knee", "ankle"):
+            if ok:  # any kind's stop: a joint's steeper passive end, an orthosis's spring off the quadratic
                 ok = self.stop_beats_smooth_rival(model)
                 if not ok:
                     self.stops_not_told_from_smooth.add("+".join(model))
@@ -487,11 +490,13 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
                         separate.append(hint)
     if "hard_stop" not in chosen and search.stops_not_told_from_smooth:
         _, stop_fit = search.fit(tuple(min(search.stops_not_told_from_smooth, key=len).split("+")))
+        hint = AFO_STOP_OR_SPRING_HINT if prep.trial.kind == "afo" else STOP_OR_STEEPER_END_HINT
+        curve = "the spring's curve" if prep.trial.kind == "afo" else "a passive term"
         notes.append(f"the end of the range stiffens beyond the baseline's passive curve from about "
-                     f"{stop_fit.params['stop_angle_deg']:.0f}°: a stop, or a passive term steeper than the baseline's; "
+                     f"{stop_fit.params['stop_angle_deg']:.0f}°: a stop, or {curve} steeper than the baseline's; "
                      "this trial cannot tell them apart (the stop does not predict held-out blocks clearly better), "
-                     f"so neither is named; to tell them apart: {STOP_OR_STEEPER_END_HINT}")
-        separate.append(STOP_OR_STEEPER_END_HINT)
+                     f"so neither is named; to tell them apart: {hint}")
+        separate.append(hint)
     final_cause, final = search.fit(chosen) if chosen else (CAUSES["none"], base)
     n_eff = effective_n(prep.torque - final.prediction)
     if n_eff <= 20:

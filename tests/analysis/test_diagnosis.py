@@ -202,6 +202,58 @@ def test_a_steeper_passive_end_is_not_a_stop_and_a_real_stop_still_is(seed: int)
     assert d.cause == "hard_stop", d.text()
 
 
+def _afo_bends(seed: int, spring: str, stop: bool = False) -> DiagnosisTrial:
+    """An orthosis bent 6 times to 17–19° by hand (raised-cosine bends of 2–3 s, 200 Hz, white noise 0.07 N·m), its
+    spring engaging at 2°, 15–22 N·m at 15°: ``"stiffening"`` (an exponential of 8–14 /rad), ``"softening"`` (a tanh
+    yield over 6–10°) or ``"linear"`` (the AADS test's coil spring); with ``stop``, a hinge stop at 14–16° of 10–14×
+    the noise at the largest bend (everything drawn from ``seed``)."""
+    rng = np.random.default_rng([4712, seed])
+    parts = []
+    for _ in range(6):
+        u = np.linspace(0.0, 1.0, int(rng.uniform(2.0, 3.0) * 200.0))
+        parts += [rng.uniform(17.0, 19.0) * np.sin(np.pi * u) ** 2, np.zeros(int(rng.uniform(0.3, 0.8) * 200.0))]
+    deg = np.concatenate(parts)
+    bend = np.clip(deg - 2.0, 0.0, None)
+    rate, width = np.radians(rng.uniform(8.0, 14.0)), rng.uniform(6.0, 10.0)
+    shape = {"stiffening": np.expm1(rate * bend) / np.expm1(rate * 13.0),
+             "softening": np.tanh(bend / width) / np.tanh(13.0 / width), "linear": bend / 13.0}[spring]
+    torque = rng.uniform(15.0, 22.0) * shape
+    if stop:
+        at = rng.uniform(14.0, 16.0)
+        torque = torque + rng.uniform(10.0, 14.0) * 0.07 * np.clip(deg - at, 0.0, None) / (deg.max() - at)
+    torque = torque + rng.normal(0.0, 0.07, deg.size)
+    return DiagnosisTrial("afo", np.arange(deg.size) / 200.0, np.radians(deg), torque, {}, {})
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+@pytest.mark.parametrize("spring", ["stiffening", "softening"])
+def test_an_orthosis_spring_off_the_quadratic_is_not_read_as_a_stop(spring: str, seed: int) -> None:
+    """An orthosis's stop meets the joints' test: it must out-predict a smooth curve at its end of the bend on
+    held-out blocks. Before, a stiffening spring read as a stop in 20 of 20 clean orthosis trials of the eleventh
+    and thirteenth families, a softening one in 16 of 20 of the fourteenth (and these four, written here, were each
+    named a stop). A clean trial names nothing and says what would tell a stop from the spring's curve."""
+    d = diagnose(_afo_bends(seed, spring))
+    assert d.cause != "hard_stop" and all(a["cause"] != "hard_stop" for a in d.also), d.text()
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_hinge_stop_on_the_aads_tests_linear_spring_is_still_named(seed: int) -> None:
+    """A hinge stop of 10–14× the noise on a linear coil spring (the AADS test's orthosis) beats the smooth curve."""
+    d = diagnose(_afo_bends(seed, "linear", stop=True))
+    assert d.cause == "hard_stop", d.text()
+    assert abs(d.parameters["stop_angle_deg"] - 15.0) < 2.5, d.parameters
+
+
+def test_a_stop_on_a_curved_orthosis_spring_is_said_to_be_inseparable_not_guessed() -> None:
+    """The limit of one trial, measured: the same stop on an exponentially stiffening spring is not named (the smooth
+    curve at the bend's end fits the two together better than the stop on the quadratic does); the report says a stop
+    or the spring's curve, and which protocol would tell them apart."""
+    d = diagnose(_afo_bends(0, "stiffening", stop=True))
+    assert d.cause != "hard_stop", d.text()
+    assert any("a stop, or the spring's curve" in n for n in d.notes), d.notes
+    assert any("bends that go further past the stop" in s for s in d.separate_by), d.separate_by
+
+
 @settings(max_examples=25, deadline=None)
 @given(st.integers(0, 2**31 - 1), st.floats(0.0, 0.05))
 def test_velocity_is_unbiased_by_dropped_rows(seed: int, drop_fraction: float) -> None:
