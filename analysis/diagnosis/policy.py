@@ -96,7 +96,8 @@ LAW_RIVAL_MIN_DELTA_BIC = 6.0
 #: analogue pole read a filtered channel half a sample long: 6 of 6 filtered knees outside their intervals, a test).
 #: Development seeds 800000–800002 of the second to thirteenth families and the first generator (117 delay singles):
 #: names unchanged, intervals holding the truth 108 → 109, within 15 % 117 → 117
-#: Kept (twenty-first stop): the orthosis's stop judged against the smooth rival too, the joints' test for every kind
+#: Kept (twenty-first stop): the orthosis's stop judged against the smooth rival too, the joints' test (not the replica
+#: leg's, a rig of linear springs)
 #: (engine._Search.stop_beats_smooth_rival; the orthosis's baseline takes the rival's exponential as a joint's does).
 #: Left out at the twentieth stop on stops 16 → 6 of 24; kept now on every development AFO trial of the second to
 #: fourteenth families and the first generator (seeds 800000–800008 and 880000–880008, 198 trials): clean 67 → 84 of
