@@ -73,8 +73,8 @@ from .family_scaffold import (
     draw_segments,
     draw_subject,
     kinematics,
+    limb_load,
     protocol_set_up,
-    segment_direction,
     trial_rng,
 )
 
@@ -241,23 +241,6 @@ def _coefficients(rng: np.random.Generator, kind: str, lo: float, hi: float, lar
             "linear": float(rng.uniform(0.0, 0.02)), "lo": lo, "hi": hi}
 
 
-def _limb(kind: str, rad: np.ndarray, fixed: dict[str, float], mass: float, shank: float, foot: float,
-          seg: dict[str, float]) -> tuple[np.ndarray, float, float, np.ndarray]:
-    """(the weight's moment against increasing angle, N·m; the limb's inertia about the joint, kg·m²; the moving
-    segment's mass, kg; the segment's cos ψ)."""
-    if kind == "afo":
-        return np.zeros_like(rad), 0.0, 0.0, np.zeros_like(rad)
-    cos_psi = np.cos(segment_direction(kind, rad, fixed))
-    if kind == "knee":
-        m_s, m_f = seg["shank_mass"] * mass, seg["foot_mass"] * mass
-        r_s = seg["shank_centre"] * shank
-        moment = -(m_s * r_s + m_f * shank) * GRAVITY * cos_psi
-        return moment, m_s * (r_s**2 + (seg["shank_gyration"] * shank) ** 2) + m_f * shank**2, m_s, cos_psi
-    m_f = seg["foot_mass"] * mass
-    r_f = seg["foot_centre"] * foot
-    return m_f * GRAVITY * r_f * cos_psi, m_f * (r_f**2 + (seg["foot_gyration"] * foot) ** 2), m_f, cos_psi
-
-
 def generate_m(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> FamilyBTrial:
     """One trial of ``kind`` hiding ``effects`` (names as :data:`EFFECTS`), drawn from ``seed``."""
     rng = trial_rng((13, 13, 7), kind, effects, seed)
@@ -297,7 +280,9 @@ def generate_m(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Famil
         details.update(compliance_at_10_Nm_deg_per_Nm=c_ref)
     joint = np.radians(joint_deg)
     shank, foot = subject["shank_length_m"], subject["foot_length_m"]
-    weight, inertia, seg_mass, cos_psi = _limb(kind, joint, fixed, subject["mass_kg"], shank, foot, seg)
+    load = limb_load(kind, joint, fixed, subject["mass_kg"], shank, foot, seg, GRAVITY)
+    weight, inertia, cos_psi = load.moment_nm, load.inertia_kgm2, np.cos(load.direction_rad)
+    seg_mass = load.shank_kg if kind == "knee" else load.foot_kg  # the moving segment whose centre slides
     passive = _passive(kind, joint_deg, fixed, coef)
     torque = passive + weight + inertia * acc
     if "gravity_error" in effects:

@@ -77,8 +77,8 @@ from .family_scaffold import (
     draw_segments,
     draw_subject,
     kinematics,
+    limb_load,
     protocol_set_up,
-    segment_direction,
     trial_rng,
 )
 
@@ -282,25 +282,6 @@ def _coefficients(rng: np.random.Generator, kind: str, lo: float, hi: float) -> 
     return out
 
 
-def _limb(kind: str, rad: np.ndarray, fixed: dict[str, float], mass: float, shank: float, foot: float,
-          seg: dict[str, float]) -> tuple[np.ndarray, float, float, np.ndarray]:
-    """(the weight's moment against increasing angle, N·m; the limb's inertia about the joint, kg·m²; the weight's
-    moment amplitude m·g·r, N·m; the segment's direction ψ, rad)."""
-    if kind == "afo":
-        return np.zeros_like(rad), 0.0, 0.0, np.zeros_like(rad)
-    psi = segment_direction(kind, rad, fixed)
-    if kind == "knee":
-        m_s, m_f = seg["shank_mass"] * mass, seg["foot_mass"] * mass
-        r_s = seg["shank_centre"] * shank
-        amplitude = (m_s * r_s + m_f * shank) * GRAVITY
-        return -amplitude * np.cos(psi), m_s * (r_s**2 + (seg["shank_gyration"] * shank) ** 2) + m_f * shank**2, \
-            amplitude, psi
-    m_f = seg["foot_mass"] * mass
-    r_f = seg["foot_centre"] * foot
-    amplitude = m_f * GRAVITY * r_f
-    return amplitude * np.cos(psi), m_f * (r_f**2 + (seg["foot_gyration"] * foot) ** 2), amplitude, psi
-
-
 def generate_o(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> FamilyBTrial:
     """One trial of ``kind`` hiding ``effects`` (names as :data:`EFFECTS`), drawn from ``seed``."""
     rng = trial_rng((15, 15, 15), kind, effects, seed)
@@ -332,7 +313,8 @@ def generate_o(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Famil
         details.update(compliance_deg_per_Nm=c_give, preload_Nm=preload)
     joint = np.radians(joint_deg)
     shank, foot = subject["shank_length_m"], subject["foot_length_m"]
-    weight, inertia, amplitude, psi = _limb(kind, joint, fixed, subject["mass_kg"], shank, foot, seg)
+    load = limb_load(kind, joint, fixed, subject["mass_kg"], shank, foot, seg, GRAVITY)
+    weight, inertia, amplitude, psi = load.moment_nm, load.inertia_kgm2, load.amplitude_nm, load.direction_rad
     passive = _passive(kind, joint_deg, fixed, coef)
     torque = passive + weight + inertia * acc
     if "gravity_error" in effects:

@@ -3,7 +3,8 @@ kind, effects and seed (the fifth to thirteenth families), the subject drawn for
 recording's damage (the seventh to thirteenth): quantised torque and angle (with an angle offset), a clock fast or
 slow with jitter, rows dropped singly and in runs, NaN cells in any column; the protocol's set-up (the ninth to
 thirteenth): the other joint's set angle, the swept range and the motion's kinematics; and the distal segment's
-direction in the sagittal plane (the tenth, twelfth and thirteenth).
+direction in the sagittal plane (the tenth, twelfth and thirteenth), and the moving segments' load about the
+joint (the thirteenth to fifteenth).
 
 Each family draws its own ranges; the draws are made in one fixed order, so a family's trials are the same as when
 each wrote these out (checked on 450 trials of the five families, every array identical).
@@ -12,6 +13,7 @@ each wrote these out (checked on 450 trials of the five families, every array id
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import NamedTuple
 
 import numpy as np
 
@@ -100,6 +102,37 @@ def segment_direction(kind: str, rad: np.ndarray, fixed: dict[str, float]) -> np
     return rad + np.pi / 2 - np.radians(fixed["knee_flexion_deg"])
 
 
+class LimbLoad(NamedTuple):
+    """The moving segments' load about the joint (the thirteenth to fifteenth families, from :func:`limb_load`)."""
+
+    moment_nm: np.ndarray      # the weight's moment against increasing angle, N·m
+    inertia_kgm2: float        # the moving segments' moment of inertia about the joint, kg·m²
+    amplitude_nm: float        # the weight's moment amplitude m·g·r, N·m
+    direction_rad: np.ndarray  # the distal segment's direction ψ (:func:`segment_direction`), rad
+    shank_kg: float            # the moving shank's mass (0 at the ankle and on an orthosis), kg
+    foot_kg: float             # the moving foot's mass (0 on an orthosis), kg
+
+
+def limb_load(kind: str, rad: np.ndarray, fixed: dict[str, float], mass: float, shank: float, foot: float,
+              seg: dict[str, float], gravity: float) -> LimbLoad:
+    """The load of the segments moved at ``kind``'s joint (none on an orthosis): the knee moves the shank and foot
+    (the foot a point mass at the shank's end), the ankle the foot. ``mass`` kg, ``shank`` and ``foot`` lengths m,
+    ``seg`` the segment fractions of :func:`draw_segments`, ``gravity`` m/s²."""
+    if kind == "afo":
+        return LimbLoad(np.zeros_like(rad), 0.0, 0.0, np.zeros_like(rad), 0.0, 0.0)
+    psi = segment_direction(kind, rad, fixed)
+    if kind == "knee":
+        m_s, m_f = seg["shank_mass"] * mass, seg["foot_mass"] * mass
+        r_s = seg["shank_centre"] * shank
+        amplitude = (m_s * r_s + m_f * shank) * gravity
+        inertia = m_s * (r_s**2 + (seg["shank_gyration"] * shank) ** 2) + m_f * shank**2
+        return LimbLoad(-amplitude * np.cos(psi), inertia, amplitude, psi, m_s, m_f)
+    m_f = seg["foot_mass"] * mass
+    r_f = seg["foot_centre"] * foot
+    amplitude = m_f * gravity * r_f
+    return LimbLoad(amplitude * np.cos(psi), m_f * (r_f**2 + (seg["foot_gyration"] * foot) ** 2), amplitude, psi, 0.0, m_f)
+
+
 def kinematics(deg: np.ndarray, rate: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(time s, angle rad, angular velocity rad/s, angular acceleration rad/s²) of an angle (degrees) sampled at
     ``rate`` Hz (central differences)."""
@@ -109,4 +142,5 @@ def kinematics(deg: np.ndarray, rate: float) -> tuple[np.ndarray, np.ndarray, np
     return t, rad, vel, np.gradient(vel, t)
 
 
-__all__ = ["damage_recording", "draw_segments", "draw_subject", "kinematics", "protocol_set_up", "segment_direction", "trial_rng"]
+__all__ = ["LimbLoad", "damage_recording", "draw_segments", "draw_subject", "kinematics", "limb_load", "protocol_set_up",
+           "segment_direction", "trial_rng"]
