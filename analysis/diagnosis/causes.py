@@ -131,6 +131,7 @@ class Prepared:
     gram_cache: dict[bytes, Any] = field(default_factory=dict, repr=False)
     grid_residual: np.ndarray | None = field(default=None, repr=False)  # what a burst's matched filter scans
     arg_cache: dict[tuple[Any, ...], Any] = field(default_factory=dict, repr=False)
+    unit_cache: dict[tuple[str, float], np.ndarray] = field(default_factory=dict, repr=False)  # friction's unit laws
     t_whole: np.ndarray | None = field(default=None, repr=False)      # the trial's time and angle before any
     theta_whole: np.ndarray | None = field(default=None, repr=False)  # cut (the AFO's engagement): what a delay reads
     end_terms: tuple[tuple[str, float], ...] = ()  # exponentials added to a joint's baseline (baseline_columns)
@@ -464,9 +465,15 @@ def dahl_state(prep: Prepared, width_rad: float) -> np.ndarray:
 def _friction_unit(prep: Prepared, law: str, width: float) -> np.ndarray:
     """The unit friction column of ``law``: a smooth Coulomb law of the speed (width in rad/s) or Dahl's law of
     the path (``"dahl"``, width the presliding angle in rad)."""
-    if law == "dahl":
-        return dahl_state(prep, width)
-    return FRICTION_LAWS[law](prep.omega / width)
+    key = (law, float(width))  # made once per trial, law and width: the searches and folds revisit the widths
+    hit = prep.unit_cache.get(key)
+    if hit is None:
+        if len(prep.unit_cache) >= 128:
+            prep.unit_cache.clear()
+        hit = dahl_state(prep, width) if law == "dahl" else FRICTION_LAWS[law](prep.omega / width)
+        hit.flags.writeable = False  # shared between calls: no caller may scale it in place
+        prep.unit_cache[key] = hit
+    return hit
 
 
 def friction_cause(law: str, stribeck: bool = False) -> Cause:

@@ -46,16 +46,18 @@ def _solve(prep: Prepared, cause: Cause, nl: tuple[float, ...], mask: np.ndarray
     base, ext, valid = cause.columns(prep, nl)
     x = np.hstack([base, ext])
     use = mask & valid
-    xs = x[use]
+    every = bool(use.all())  # a boolean index copies: skipped when every sample is used (a whole-trial fit)
+    xs = x if every else x[use]
     offset = cause.offset(prep, nl) if cause.offset is not None else None
-    y = prep.target[use] if offset is None else prep.target[use] - offset[use]
+    target = prep.target if every else prep.target[use]
+    y = target if offset is None else target - (offset if every else offset[use])
     signs = np.zeros(x.shape[1])
     signs[base.shape[1]:base.shape[1] + len(cause.signs)] = cause.signs
     # normal equations on unit-diagonal columns (an SVD solve costs ~30× more and, with a threaded BLAS on a
     # loaded host, far more); the residual is formed directly, so it keeps full precision
     coef = _signed_normal_solve(xs.T @ xs, xs.T @ y, signs)
     pred = x @ coef if offset is None else x @ coef + offset
-    rss = float(np.sum((prep.target[use] - pred[use]) ** 2))
+    rss = float(np.sum((target - (pred if every else pred[use])) ** 2))
     return rss, coef, np.where(valid, pred, np.nan), base.shape[1], use
 
 
@@ -69,12 +71,13 @@ def _signed_normal_solve(gram: np.ndarray, rhs: np.ndarray, signs: np.ndarray) -
     for _ in range(r.size + 1):
         free = ~held
         c = np.zeros(r.size)
+        g_free, r_free = (g, r) if not held.any() else (g[np.ix_(free, free)], r[free])  # no copy before a hold
         try:
-            c[free] = np.linalg.solve(g[np.ix_(free, free)], r[free])
+            c[free] = np.linalg.solve(g_free, r_free)
             if not np.all(np.isfinite(c)):
                 raise np.linalg.LinAlgError
         except np.linalg.LinAlgError:
-            c[free] = np.linalg.lstsq(g[np.ix_(free, free)], r[free], rcond=None)[0]
+            c[free] = np.linalg.lstsq(g_free, r_free, rcond=None)[0]
         bad = signs * c < 0
         if not bad.any():
             break
@@ -96,14 +99,14 @@ def _rss(prep: Prepared, cause: Cause, nl: tuple[float, ...], mask: np.ndarray) 
         bm = base[mask]
         coef0 = _signed_normal_solve(bm.T @ bm, bm.T @ prep.target[mask], np.zeros(bm.shape[1]))
         y0 = prep.target[mask] - bm @ coef0  # the baseline's residual: the Gram sums stay small (no cancellation)
-        cached = (bm, bm.T @ bm, bm.T @ y0, float(y0 @ y0), y0, int(mask.sum()))
+        cached = (bm, bm.T @ bm, bm.T @ y0, float(y0 @ y0), y0, int(mask.sum()), bool(mask.all()))
         if len(prep.gram_cache) > 16:
             prep.gram_cache.clear()
         prep.gram_cache[key] = cached
-    bm, btb, bty, yy, y0, n = cached
+    bm, btb, bty, yy, y0, n, every = cached
     if ext.shape[1] == 0:
         return yy, n
-    em = ext[mask]
+    em = ext if every else ext[mask]
     p, k = btb.shape[0], em.shape[1]
     gram = np.empty((p + k, p + k))
     gram[:p, :p] = btb
