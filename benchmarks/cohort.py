@@ -60,7 +60,7 @@ def _sweep_key(proto: IsokineticProtocol) -> tuple[str, float]:
 def opensim_draw(index: int, seed: int) -> StudyDraw:
     """Subject ``index``: parameters drawn around Rajagopal 2016's, passive moments from OpenSim with the
     subject's variant hidden, a moment table per protocol sweep (knee at hip 90/55/15°, ankle at knee 0/45/90°)."""
-    from .opensim_truth import draw_truth, generic_parameters, model_path, opensim
+    from .opensim_truth import draw_truth, generic_parameters, model_path, remembered_opensim
     from .pmp_opensim import SHANK_M
     from .pmp_realistic import THIGH_M, _limit_forces
 
@@ -81,11 +81,11 @@ def opensim_draw(index: int, seed: int) -> StudyDraw:
         at["hip" if proto.joint == "knee" else "knee"] += float(err)  # the fixed joint truly sits there
         for d in grid:
             poses.append({k: float(np.radians(d if k == proto.joint else v)) for k, v in at.items()})
-    answer = opensim({"model": str(model_path()), "parameters": truth, "poses": poses,
-                      "compliant_knee_tendons": variant == "compliant_tone",
-                      "activation": 0.01 if variant == "compliant_tone" else 0.0,
-                      "limit_forces": _limit_forces(rng) if variant == "end_range" else {},
-                      "unmodelled_muscles": variant == "unmodelled_muscles"})
+    answer = remembered_opensim({"model": str(model_path()), "parameters": truth, "poses": poses,
+                                 "compliant_knee_tendons": variant == "compliant_tone",
+                                 "activation": 0.01 if variant == "compliant_tone" else 0.0,
+                                 "limit_forces": _limit_forces(rng) if variant == "end_range" else {},
+                                 "unmodelled_muscles": variant == "unmodelled_muscles"})
     tables: dict[tuple[str, float], tuple[np.ndarray, np.ndarray]] = {}
     first = 0
     for proto, grid in zip(protos, grids):

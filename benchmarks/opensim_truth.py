@@ -83,9 +83,53 @@ def opensim(request: dict[str, Any], timeout_s: float = 600.0) -> dict[str, Any]
         raise RuntimeError(f"OpenSim truth answered no JSON ({err}): {out.stdout[:300]!r} {out.stderr[-1000:]!r}") from err
 
 
+#: OpenSim's answers kept by what was asked (see :func:`remembered_opensim`); written only with
+#: ``INSTRUMENT_OPENSIM_ANSWERS=write``
+ANSWERS = Path(__file__).resolve().parent / "data" / "opensim_answers"
+#: the parts of an answer :func:`make_trials` and :func:`generic_parameters` read (the rest is not kept)
+_KEPT = ("moments_nm", "tendon_slack_length_m", "limit_moments_nm", "muscles", "shank_length_m", "thigh_length_m")
+
+
+def answer_key(request: dict[str, Any]) -> str:
+    """What identifies an answer: the request without the model's path, the model file's content, the child's
+    source (:mod:`benchmarks.opensim_passive`) and OpenSim's version (SHA-256, hex)."""
+    import hashlib
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        opensim_version = version("opensim")
+    except PackageNotFoundError:
+        opensim_version = "absent"
+    digest = hashlib.sha256
+    asked = {k: v for k, v in request.items() if k != "model"}
+    body = {"request": asked, "model_sha256": digest(Path(request["model"]).read_bytes()).hexdigest(),
+            "child_sha256": digest((Path(__file__).parent / "opensim_passive.py").read_bytes()).hexdigest(),
+            "opensim": opensim_version}
+    return digest(json.dumps(body, sort_keys=True).encode()).hexdigest()
+
+
+def remembered_opensim(request: dict[str, Any]) -> dict[str, Any]:
+    """OpenSim's answer to ``request`` as :func:`opensim` gives it (the parts in ``_KEPT``), read from
+    :data:`ANSWERS` when the same request of the same model to the same child and OpenSim version was answered
+    before: the tests' subjects cost an OpenSim start and 46 poses × 6 sweeps (≈ 14 s) each otherwise. Only
+    OpenSim writes these files (``INSTRUMENT_OPENSIM_ANSWERS=write``); a changed model, child or OpenSim misses
+    them and asks OpenSim again, and ``tests/benchmarks/test_opensim_answers.py`` asks it again for one of them
+    and compares."""
+    import os
+
+    path = ANSWERS / f"{answer_key(request)}.json"
+    if path.exists():
+        return dict(json.loads(path.read_text()))
+    answer = {k: v for k, v in opensim(request).items() if k in _KEPT}
+    if os.environ.get("INSTRUMENT_OPENSIM_ANSWERS") == "write":
+        ANSWERS.mkdir(parents=True, exist_ok=True)
+        path.write_text(json.dumps(answer))
+    return answer
+
+
 def generic_parameters() -> dict[str, dict[str, float]]:
     """The model's own parameters (after ``replaceMuscles``), from OpenSim."""
-    return opensim({"what": "facts", "model": str(model_path())})["muscles"]
+    return remembered_opensim({"what": "facts", "model": str(model_path())})["muscles"]
 
 
 def draw_truth(seed: int, generic: dict[str, dict[str, float]], slack_spread: float = 0.05,
@@ -162,7 +206,7 @@ def make_trials(truth: dict[str, dict[str, float]], seed: int, *, variant: str =
                "activation": (0.01 if variant == "realistic" else 0.0) if activation is None else activation,
                "limit_forces": limit_forces or {}, "unmodelled_muscles": unmodelled_muscles,
                "segment_scales": segment_scales or {}}
-    answer = opensim(request)
+    answer = remembered_opensim(request)
     if simulated_slack_m is not None:
         simulated_slack_m.update(answer["tendon_slack_length_m"])
     trials = []
