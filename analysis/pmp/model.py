@@ -207,28 +207,48 @@ def path_taylor(leg: LegMuscles, trial: PmpTrial, anchors_rad: np.ndarray) -> tu
     within 1° 2.4e-5 / 8.1e-5 m, at 3° 0.9 / 2.9 mm. The fitted angle stays within the angle noise
     (0.1°) of the measured one; an extension that turns the joint by degrees (axis misalignment)
     uses the tables themselves."""
-    import casadi as ca
-
     key = (trial.joint, tuple(sorted(trial.fixed_rad.items())), leg.length_scale, leg.thigh_over_shank,
            anchors_rad.tobytes())
     if key in leg.path_cache:  # the model-level diagnosis fits the same trials again and again
         return leg.path_cache[key]
-    names = [m for m in MUSCLES if trial.joint in leg.paths[m].joints]
-    x = ca.SX.sym("x")
-    angles = {"hip": trial.fixed_rad.get("hip", 0.0), "knee": trial.fixed_rad.get("knee", 0.0),
-              "ankle": trial.fixed_rad.get("ankle", 0.0), trial.joint: x}
+    names, taylor = _taylor_function(leg, trial.joint)
+    fixed = np.array([[trial.fixed_rad.get(j, 0.0)] for j in ("hip", "knee", "ankle")])
+    values = taylor.map(anchors_rad.size)(anchors_rad.reshape(1, -1), np.repeat(fixed, anchors_rad.size, axis=1))
+    _make_room(leg)
+    leg.path_cache[key] = (names, np.asarray(values))
+    return leg.path_cache[key]
+
+
+def _make_room(leg: LegMuscles) -> None:
+    """Empty ``leg``'s path cache when full, keeping the symbolic Taylor functions (a few per leg)."""
+    if len(leg.path_cache) >= PATH_CACHE_SIZE:
+        for k in [k for k in leg.path_cache if k[0] != "taylor function"]:
+            del leg.path_cache[k]
+
+
+def _taylor_function(leg: LegMuscles, joint: str) -> tuple[list[str], Any]:
+    """The names of the muscles crossing ``joint`` and a CasADi function (angle of ``joint``, the three joints'
+    angles as a column: hip, knee, ankle; rad) → :func:`path_taylor`'s coefficients, differentiated symbolically
+    once per leg scale and joint (anchors and set angles change with every re-anchoring and set-angle step; the
+    derivatives do not)."""
+    import casadi as ca
+
+    key = ("taylor function", joint, leg.length_scale, leg.thigh_over_shank)
+    if key in leg.path_cache:
+        return leg.path_cache[key]  # type: ignore[no-any-return]  # the cache holds this key's pair only
+    names = [m for m in MUSCLES if joint in leg.paths[m].joints]
+    x, fixed = ca.SX.sym("x"), ca.SX.sym("fixed", 3)
+    angles = {"hip": fixed[0], "knee": fixed[1], "ankle": fixed[2], joint: x}
     rows = []
     for m in names:
-        for expr in (leg.path_length_m(m, **angles), leg.moment_arm_m(m, trial.joint, **angles)):
+        for expr in (leg.path_length_m(m, **angles), leg.moment_arm_m(m, joint, **angles)):
             d = expr
             for k in range(PATH_TAYLOR_ORDER + 1):
                 rows.append(d / math.factorial(k))
                 d = ca.jacobian(d, x)
-    f = ca.Function("taylor", [x], [ca.vertcat(*rows)]).map(anchors_rad.size)
-    if len(leg.path_cache) >= PATH_CACHE_SIZE:
-        leg.path_cache.clear()
-    leg.path_cache[key] = (names, np.asarray(f(anchors_rad.reshape(1, -1))))
-    return leg.path_cache[key]
+    _make_room(leg)
+    leg.path_cache[key] = (names, ca.Function("taylor", [x, fixed], [ca.vertcat(*rows)]))
+    return leg.path_cache[key]  # type: ignore[no-any-return]
 
 
 def muscle_moment(leg: LegMuscles, m: str, joint: str, q: dict[str, Any], ls: Any, strain: Any, lt_norm: Any,
