@@ -248,7 +248,7 @@ def _taylor_function(leg: LegMuscles, joint: str) -> tuple[list[str], Any]:
                 d = ca.jacobian(d, x)
     _make_room(leg)
     leg.path_cache[key] = (names, ca.Function("taylor", [x, fixed], [ca.vertcat(*rows)]))
-    return leg.path_cache[key]  # type: ignore[no-any-return]
+    return leg.path_cache[key]  # type: ignore[no-any-return]  # the pair just stored
 
 
 def muscle_moment(leg: LegMuscles, m: str, joint: str, q: dict[str, Any], ls: Any, strain: Any, lt_norm: Any,
