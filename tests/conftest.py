@@ -7,9 +7,10 @@ import os
 import pytest
 
 os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
-# one BLAS thread per worker: three workers on two cores with OpenBLAS's threads each spent more time switching than
-# solving (four diagnoses 26.7 s with its threads, 18.7 s with one, on this 2-core host); the variables reach the
-# subprocesses (OpenSim, fitting workers), threadpoolctl the BLAS a plugin may have loaded before this file
+# one BLAS thread per worker: three workers on two cores with OpenBLAS's threads each spend time switching, not
+# solving (four diagnoses 26.7 s with its threads, 18.7 s with one, measured once on this 2-core host beside another
+# run; quiet, six diagnoses took 7.9 s either way); the variables reach the subprocesses (OpenSim, fitting workers),
+# threadpoolctl the BLAS a plugin may have loaded before this file
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 try:
