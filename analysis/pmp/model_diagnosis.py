@@ -467,7 +467,8 @@ BLOCKS_PER_FOLD = 4
 @dataclass(frozen=True)
 class Fold:
     """One held-out fold: the trials fitted, the torque windows left out of the fit (per fitted trial,
-    s), and the samples predicted (trial index → sample indices)."""
+    s; a left-out repeat is one window over its whole sweep), and the samples predicted (trial index → sample
+    indices)."""
 
     label: str
     fitted: tuple[int, ...]
@@ -480,11 +481,16 @@ def held_out_folds(trials: list[PmpTrial], points: int = 60) -> list[Fold]:
     (:func:`folds_of`); without, interleaved time blocks of every trial (:data:`BLOCK_FOLDS`)."""
     by_condition = folds_of(trials)
     if len(by_condition) >= 2 and all(lbl.startswith("repeat") for lbl, _ in by_condition):
+        # a left-out repeat is a window over its whole sweep: its torque is out of the cost, its motion still
+        # tracked. Its control is then free, so its states follow the measured motion whatever the parameters
+        # are, and the fit is the one of the other trials alone; every fold then shares one built problem
         out = []
         for label, left in by_condition:
             pred = {j: np.unique(np.linspace(0, trials[j].time_s.size - 1, min(points, trials[j].time_s.size)).astype(int))
                     for j in left}
-            out.append(Fold(label, tuple(j for j in range(len(trials)) if j not in left), None, pred))
+            whole: tuple[tuple[tuple[float, float], ...], ...] = tuple(
+                ((float(t.time_s[0]), float(t.time_s[-1])),) if j in left else () for j, t in enumerate(trials))
+            out.append(Fold(label, tuple(range(len(trials))), whole, pred))
         return out
     n_blocks = BLOCK_FOLDS * BLOCKS_PER_FOLD
     out = []
@@ -582,9 +588,10 @@ def _heldout_rms(fit: PmpResult, fold: Fold, w: dict[str, Any], ext: Extension |
 
 def _key_fits(job: FitJob, context: dict[str, Any] | None = None) -> FitOutcome:
     """One candidate fitted without each fold in turn, then on every trial when ``job``'s rule asks (its folds
-    predict better than the reference's by the ratio). Block folds share one built problem (the held-out
-    windows are its parameters: one build and one expansion serve every fold, each solved from the same
-    start, so the fits are those of separate builds); folds leaving out whole trials are built each.
+    predict better than the reference's by the ratio). Folds that fit every trial (time blocks, or repeats left
+    out as whole-sweep windows) share one built problem (the held-out windows are its parameters: one build
+    serves every fold and the fit on every trial, each solved from the same start, so the fits are those of
+    separate builds); folds fitting fewer trials are built each.
 
     When the rule asks every fold to be better, the folds stop at the first that is not: the candidate can then be
     neither named nor plausible whatever the others give (the decision is the one all folds would give; the
@@ -598,8 +605,8 @@ def _key_fits(job: FitJob, context: dict[str, Any] | None = None) -> FitOutcome:
     whole_starts = default
     if starts is not None:
         fold_starts, whole_starts = starts
-    shared = None
-    if all(f.held_out_s is not None and len(f.fitted) == len(trials) for f in folds):
+    shared = w.get("built", {}).get(key)  # the problem the caller already built for this model, if any
+    if shared is None and all(f.held_out_s is not None and len(f.fitted) == len(trials) for f in folds):
         shared = build_problem(trials, subject, leg=leg, intervals=w["intervals"], extension=ext, initial=w["initial"])
     initial_ext = ext.start_values() if ext is not None else None
 
@@ -707,7 +714,12 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
     folds = held_out_folds(trials)
     leg = leg or LegMuscles()
     names = candidates or list(EXTENSIONS)
-    plain_fit = plain or estimate(trials, subject, leg=leg, intervals=intervals)
+    built: dict[str | None, Any] = {}
+    if plain is None:  # the plain model's folds are then solved on the problem built for this fit (one build)
+        built[None] = build_problem(trials, subject, leg=leg, intervals=intervals)
+        plain_fit = solve(built[None])
+    else:
+        plain_fit = plain
     heldout: dict[str, dict[str, float]] = {}
     fold_params: dict[str, list[dict[str, float]]] = {}
     def pooled(errs: dict[str, float]) -> float:
@@ -726,13 +738,15 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
     fold_found: dict[str, list[FitStart]] = {}
 
     def fit_folds(pool: _FitPool, keys: list[str | None], whole: WholeRule = None,
-                  starts: dict[str, JobStarts] | None = None) -> None:
+                  starts: dict[str, JobStarts] | None = None, here: dict[str, Any] | None = None) -> None:
         """Each candidate without each fold; then on every trial when ``whole``'s rule holds for it: the
         candidates whose parameters and the muscles' shifts are reported as such, those that predict the folds
         better (named, a close rival, a pair) or nearly as well as the plain model (absorbed by the muscles).
-        The others are reported with their folds' mean parameters."""
+        The others are reported with their folds' mean parameters. ``here``: fit in this process, with these
+        entries added to the pool's context (``built``: problems already built, by candidate)."""
         jobs: list[FitJob] = [(key, folds, whole, (starts or {}).get(key or "none")) for key in keys]
-        for key, (per_fold, full) in zip(keys, pool.fits(jobs), strict=True):
+        outcomes = pool.fits(jobs) if here is None else [_key_fits(j, {**pool.context, **here}) for j in jobs]
+        for key, (per_fold, full) in zip(keys, outcomes, strict=True):
             for fold, (rms, ext_params, found) in zip(folds, per_fold):  # fewer when it stopped at a worse fold
                 heldout.setdefault(key or "none", {})[fold.label] = rms
                 fold_params.setdefault(key or "none", []).append(ext_params)
@@ -762,7 +776,7 @@ def diagnose_model(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles 
         return out
 
     with _FitPool(trials, subject, leg, intervals, plain_fit.parameters, workers) as pool:
-        fit_folds(pool, [None])
+        fit_folds(pool, [None], here={"built": built} if built else None)
         if pooled(heldout["none"]) > INCONCLUSIVE_FACTOR * in_sample_rms:
             base = pooled(heldout["none"])  # the plain model's folds already show the trials cannot judge an extension
             return ModelDiagnosis("none", base, heldout["none"], [],
