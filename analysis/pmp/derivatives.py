@@ -65,16 +65,22 @@ def derivative_functions(opti: Any, calls: list[PointCall]) -> dict[str, Any] | 
     gs, fs = outer(xs, ps, *w_sx)
     w_flat = ca.vertcat(*[ca.vec(w) for w in w_sx])
     b = ca.jacobian(gs, w_flat)
-    if ca.depends_on(b, ca.vertcat(xs, w_flat)):
+    if ca.depends_on(b, ca.vertcat(xs, ps, w_flat)):
         return None
+    b_dm = ca.DM(ca.Function("b0", [xs, ps], [b])(0, 0))
     lam_f_sx, lam_g_sx = ca.SX.sym("lam_f"), ca.SX.sym("lam_g", gs.sparsity())
-    outer_jac = ca.Function("outer_jac", [xs, ps], [ca.jacobian(gs, xs), b])
+    outer_jac = ca.Function("outer_jac", [xs, ps], [ca.jacobian(gs, xs)])
     outer_hess = ca.Function("outer_hess", [xs, ps, lam_f_sx, lam_g_sx],
                              [ca.triu(ca.hessian(lam_f_sx * fs + ca.dot(lam_g_sx, gs), xs)[0])])
     lam_f, lam_g = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", g.sparsity())
-    jac, b_mx = outer_jac(x, p)
-    hess = outer_hess(x, p, lam_f, lam_g)
+    jac_parts, hess_parts = [outer_jac(x, p)], [outer_hess(x, p, lam_f, lam_g)]
+    # the same sums with symbols for the parts: linear in them, so each result's nonzeros are a constant sparse
+    # matrix times the parts' nonzeros (one product per evaluation instead of a chain of sparse products)
+    jac_sum = jac_sym = ca.SX.sym("j", jac_parts[0].sparsity())
+    hess_sum = hess_sym = ca.SX.sym("h", hess_parts[0].sparsity())
+    jac_syms, hess_syms = [jac_sym], [hess_sym]
     offset = 0
+    w_values: list[Any] = []  # each trial's point outputs (n_w × points), evaluated beside their Jacobian
     for c in calls:
         fn, points = c.function, c.inputs[0].size2()
         sizes = [i.size1() for i in c.inputs]
@@ -88,22 +94,38 @@ def derivative_functions(opti: Any, calls: list[PointCall]) -> dict[str, Any] | 
         w = ca.vertcat(*fn(*parts, *fixed))
         mu = ca.SX.sym("mu", n_w)
         jac_z = ca.jacobian(w, z)
-        hess_z = ca.hessian(ca.dot(mu, w), z)[0]
-        jac_pt = ca.Function("jac_pt", [z, *fixed], [jac_z])
+        hess_z = ca.triu(ca.hessian(ca.dot(mu, w), z)[0])  # one triangle: half the point Hessian's work
+        jac_pt = ca.Function("jac_pt", [z, *fixed], [w, jac_z])  # the outputs too: g from them, not evaluated again
         hess_pt = ca.Function("hess_pt", [z, mu, *fixed], [hess_z])
         z_cols = ca.vertcat(*c.inputs)  # n_z × points
         # D = ∂vec(Z)/∂x: the inputs are linear in the decision variables (checked)
-        d_sym = ca.Function("dz", [x, p], [ca.jacobian(ca.vec(z_cols), x)]).expand()
-        d_sx = d_sym(xs, ps)
+        d_sx = ca.Function("dz", [x, p], [ca.jacobian(ca.vec(z_cols), x)]).expand()(xs, ps)
         if ca.depends_on(d_sx, ca.vertcat(xs, ps)):
             return None
         d = ca.DM(ca.Function("d0", [xs, ps], [d_sx])(0, 0))
-        b_t = b_mx[:, offset:offset + n_w * points]
+        b_t = b_dm[:, offset:offset + n_w * points]
         offset += n_w * points
-        mu_cols = ca.reshape(ca.mtimes(b_t.T, lam_g), n_w, points)
-        block_jac = _blocks(ca, jac_pt.map(points)(z_cols, *c.fixed), points, jac_z.sparsity())
-        block_hess = _blocks(ca, hess_pt.map(points)(z_cols, mu_cols, *c.fixed), points, hess_z.sparsity())
-        jac = jac + ca.mtimes(b_t, ca.mtimes(block_jac, d))
-        hess = hess + ca.triu(ca.mtimes(d.T, ca.mtimes(block_hess, d)))
-    return {"jac_g": ca.Function("nlp_jac_g", [x, p], [g, jac]),
+        w_cols, jac_map = jac_pt.map(points)(z_cols, *c.fixed)
+        hess_map = hess_pt.map(points)(z_cols, ca.reshape(ca.mtimes(b_t.T, lam_g), n_w, points), *c.fixed)
+        w_values.append(w_cols)
+        jac_parts.append(jac_map)
+        hess_parts.append(hess_map)
+        jac_syms.append(ca.SX.sym("j", jac_map.sparsity()))
+        hess_syms.append(ca.SX.sym("h", hess_map.sparsity()))
+        jac_sum = jac_sum + ca.mtimes(b_t, ca.mtimes(_blocks(ca, jac_syms[-1], points, jac_z.sparsity()), d))
+        upper = _blocks(ca, hess_syms[-1], points, hess_z.sparsity())
+        full = upper + upper.T - ca.diag(ca.diag(upper))
+        hess_sum = hess_sum + ca.triu(ca.mtimes(d.T, ca.mtimes(full, d)))
+    jac = _linear_map(ca, jac_sum, jac_syms, jac_parts)
+    hess = _linear_map(ca, hess_sum, hess_syms, hess_parts)
+    g_from_outputs = outer(x, p, *w_values)[0]
+    return {"jac_g": ca.Function("nlp_jac_g", [x, p], [g_from_outputs, jac]),
             "hess_lag": ca.Function("nlp_hess_l", [x, p, lam_f, lam_g], [hess])}
+
+
+def _linear_map(ca: Any, total: Any, symbols: list[Any], parts: list[Any]) -> Any:
+    """``total`` (SX, linear in ``symbols``' nonzeros) with each symbol replaced by its part (MX of the same
+    sparsity): its nonzeros as a constant sparse matrix times the parts' nonzeros."""
+    stacked = ca.vertcat(*[s.nz[:] for s in symbols])
+    matrix = ca.evalf(ca.jacobian(total.nz[:], stacked))
+    return ca.MX(total.sparsity(), ca.mtimes(matrix, ca.vertcat(*[part.nz[:] for part in parts])))
