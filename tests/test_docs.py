@@ -32,3 +32,5 @@ def test_the_readme_is_short_and_starts_with_the_two_commands() -> None:
     assert len(lines) <= 150
     blocks = [ln for ln in lines[:15] if ln.startswith("python3 -m venv")]
     assert len(blocks) == 2 and "instrument demo" in blocks[0] and "pytest" in blocks[1]
+    # CI runs exactly the README's test command
+    assert blocks[1] in (ROOT / ".ci" / "run").read_text(encoding="utf-8")

@@ -5,8 +5,9 @@ trial's dynamics and the calf tendons' equilibrium at one collocation point), ma
 everything around it (Hermite–Simpson conditions, bounds, the tracking cost, the priors) is linear in the point
 function's outputs and at most quadratic in the decision variables. CasADi's own derivatives of the expanded
 problem differentiate the whole expression graph (≈ 100,000 nodes for six trials): making them was ≈ 3 s of a
-3.4 s fit. Here the point function is differentiated once per trial, its Jacobian and Hessian are mapped over
-the points and assembled by the chain rule:
+3.4 s fit. Here the point function is differentiated once per trial, its Jacobian and (one triangle of) its
+Hessian are mapped over the points and assembled by the chain rule, the sums through one constant sparse matrix
+per result (the assembly is linear in the parts):
 
     J_g = ∂g̃/∂x + Σ_trials B · blockdiag(∂w/∂z) · D
     ∇²L = σ ∇²f + ∇²_x(λᵀ g̃) + Σ_trials Dᵀ · blockdiag(∇²_z (μᵀ w)) · D,    μ = Bᵀ λ

@@ -268,7 +268,7 @@ def build_problem(trials: list[PmpTrial], subject: Subject, *, leg: LegMuscles |
     expand = expand and moment is None
     # the derivatives made per collocation point and assembled (:mod:`analysis.pmp.derivatives`): making CasADi's
     # own of the expanded problem was ≈ 3 s of a 3.4 s fit of six trials (measured 2026-11-29: the same iterations
-    # and objective to 1e-13; a fit's first solve 3.4 → 1.0 s, each further solve 0.39 → 0.51 s)
+    # and objective to 1e-13; a fit's first solve 3.39 → 0.86 s, each further solve 0.39 → 0.40 s)
     derivatives = (derivative_functions(opti, problem.point_calls) or {}) if expand else {}
     opti.solver("ipopt", {"print_time": False, "expand": expand, **derivatives},
                 {"print_level": 0, "max_iter": max_iter, "tol": 1e-8, "sb": "yes"})
