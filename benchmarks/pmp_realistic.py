@@ -84,9 +84,7 @@ def _limit_forces(rng: np.random.Generator) -> dict[str, dict[str, float]]:
                       "transition_deg": 2.0}}
 
 
-def one_subject(seed: int, variant: str, quick: bool = False, hidden: list[str] | None = None) -> dict[str, Any]:
-    """One subject of ``variant`` drawn from ``seed`` through the product's path; ``hidden``: the mismatches to hide
-    (default: the variant's, and half the time a second drawn from the seed)."""
+def one_subject(seed: int, variant: str, quick: bool = False) -> dict[str, Any]:
     from analysis.pmp.estimator import PmpTrial, Subject
     from analysis.pmp.report import analyse
 
@@ -94,10 +92,9 @@ def one_subject(seed: int, variant: str, quick: bool = False, hidden: list[str] 
     from .pmp_opensim import SHANK_M, determined_against_truth
 
     rng = np.random.default_rng(seed)
-    drawn = [] if variant == "matched" else [variant]
+    hidden = [] if variant == "matched" else [variant]
     if variant != "matched" and rng.random() < 0.5:
-        drawn.append(str(rng.choice([v for v in VARIANTS if v not in ("matched", variant)])))
-    hidden = drawn if hidden is None else list(hidden)
+        hidden.append(str(rng.choice([v for v in VARIANTS if v not in ("matched", variant)])))
     truth = draw_truth(seed, generic_parameters())
     details: dict[str, Any] = {}
     limit = _limit_forces(rng) if "end_range" in hidden else None

@@ -13,9 +13,9 @@ per result (the assembly is linear in the parts):
     ∇²L = σ ∇²f + ∇²_x(λᵀ g̃) + Σ_trials Dᵀ · blockdiag(∇²_z (μᵀ w)) · D,    μ = Bᵀ λ
 
 with w the point outputs (a column per point), z its differentiable inputs (z = D x: linear in the decision
-variables), g̃ the constraints with the point outputs as symbols and B = ∂g̃/∂w. When B is not constant (the
-problem is not of this form) CasADi's own derivatives are used. Either way the derivatives are the same to
-rounding.
+variables), g̃ the constraints with the point outputs as symbols and B = ∂g̃/∂w. When B is not constant or a point
+input is not linear in the decision variables (the problem is not of this form; both checked symbolically)
+CasADi's own derivatives are used. Either way the derivatives are the same to rounding.
 """
 
 from __future__ import annotations
@@ -44,7 +44,8 @@ def _blocks(ca: Any, mapped: Any, points: int, block: Any) -> Any:
 
 def derivative_functions(opti: Any, calls: list[PointCall]) -> dict[str, Any] | None:
     """IPOPT's ``jac_g`` and ``hess_lag`` (nlpsol options) for ``opti``'s problem, or None when the problem's
-    constraints are not linear in the point outputs with constant coefficients."""
+    constraints are not linear in the point outputs with constant coefficients or a point input is not linear in
+    the decision variables."""
     import casadi as ca
 
     if not calls:
