@@ -352,6 +352,11 @@ class TrialKind(ABC):
     def simulated_operator(self, protocol: TrialProtocol, lab: Any) -> None:  # noqa: B027 - an optional hook; doing nothing is the default
         """Give ``protocol`` the simulated operator's hand in ``lab`` (default: none needed)."""
 
+    def simulated_truth(self, sidecar: dict[str, Any]) -> str | None:
+        """What the simulated lab's subject or rig holds that a diagnosis of a trial with ``sidecar`` should
+        find, in one line for the demo to print beside the finding (default: nothing to say)."""
+        return None
+
 
 __all__ = ["diagnosis_line", "live_check_agreement", "AFO_STIFFNESS", "HALT_RECORD_PERIODS", "PASSIVE_PARAMETERS",
            "POSITIONING_SPEED_DEG_S", "REPLICA_SPRINGS",

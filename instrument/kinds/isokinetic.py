@@ -27,7 +27,7 @@ from analysis.pmp.report import analyse, subject_from, summary_table, text, tria
 from analysis.trial_csv import TrialTable
 from drivers import DriverError, Dynamometer, StreamingDevice
 from drivers.dynamometer import DEFAULT_LIMITS, SUBJECT_MAX_SPEED_DEG_S
-from drivers.simulation.demo_subject import passive_table
+from drivers.simulation.demo_subject import demo_subject, passive_table
 from drivers.simulation.seated_leg import SeatedLeg, riener_passive_moment_nm
 
 from ..errors import ExportError, ProtocolError
@@ -370,6 +370,23 @@ class IsokineticKind(TrialKind):
         if table is not None:
             leg = replace(leg, passive_table_deg=table[0], passive_table_nm=table[1])
         return {"leg": leg, "dyno_start_position_deg": protocol.start_deg}
+
+    def simulated_truth(self, sidecar: dict[str, Any]) -> str | None:
+        """The simulated subject's end-range structures (OpenSim's CoordinateLimitForce in ``demo_subject.json``)
+        for a trial whose fixed joint was set where the subject has a table; None elsewhere (Riener & Edrich's
+        moments there, no stop)."""
+        values = {p.name: sidecar[p.name] for p in self.parameters if p.name in sidecar}
+        try:
+            protocol = self.protocol(**values)
+        except ProtocolError:
+            return None
+        assert isinstance(protocol, IsokineticProtocol)
+        if passive_table(protocol.joint, protocol.set_angle_deg) is None:
+            return None
+        limits = demo_subject()["limit_forces"][protocol.joint]
+        return (f"OpenSim CoordinateLimitForce from {limits['upper_deg']:g}° ({limits['upper_stiffness_Nm_per_deg']:g} "
+                f"N·m/°) and below {limits['lower_deg']:g}° ({limits['lower_stiffness_Nm_per_deg']:g} N·m/°), "
+                f"{limits['transition_deg']:g}° transitions, and muscles the passive model lacks")
 
 
 #: a goniometer channel measuring a fixed joint (its label) -> the sidecar key of the measured angle

@@ -270,9 +270,12 @@ def diagnose_recordings(out: Path) -> list[dict[str, Any]]:
         params = listed(d.parameters) + "".join(f" + {a['cause']} {listed(a['parameters'])}" for a in d.also)
         print(f"  trial {t.id} {protocol:<8} → {d.cause}{amb} {params}; RMSE {d.baseline_rmse_nm:.3f} → "
               f"{d.extended_rmse_nm:.3f} N·m, held-out ratio {d.heldout_rmse_ratio:.2f}  [{plot.name}]")
+        truth = kinds.get(protocol).simulated_truth(loaded[protocol].table().sidecar)
+        if truth:
+            print(f"      the simulated subject: {truth}")
         for n in d.notes[:2]:
             print(f"      note: {n}")
-        found.append({"trial": t.id, "protocol": protocol, **d.as_dict()})
+        found.append({"trial": t.id, "protocol": protocol, **d.as_dict(), "simulated_truth": truth})
     return found
 
 
@@ -536,8 +539,15 @@ def _story(report: dict[str, Any], out: Path) -> list[str]:
                      f"(screens in {out / 'gui'})")
     found = report.get("diagnosis") or []
     if found:
+        def stop_at(d: dict[str, Any]) -> str:
+            angle = d["parameters"].get("stop_angle_deg") if d["cause"] == "hard_stop" else None
+            return f" at {angle:.0f}°" if angle is not None else ""
+        truths = [d for d in found if d.get("simulated_truth")]
         lines.append("[7/8] Diagnosis of each kind's trial: " + "; ".join(
-            f"{d['protocol']} → {' + '.join([d['cause'], *(a['cause'] for a in d.get('also', []))])}" for d in found))
+            f"{d['protocol']} → {' + '.join([d['cause'], *(a['cause'] for a in d.get('also', []))])}{stop_at(d)}"
+            for d in found) + (f" (the simulated subject's {' and '.join(d['protocol'] for d in truths)} hold OpenSim's "
+                               "limit forces at their range ends: the report sets them beside each finding)"
+                               if truths else ""))
     cohort = report.get("cohort") or {}
     if cohort:
         eng = cohort.get("engine") or {}

@@ -92,6 +92,15 @@ def test_demo_records_a_lab_day_into_a_store(demo_run: tuple[Path, str]) -> None
     for d in report["diagnosis"]:  # a second effect is printed on the trial's line, not only in the JSON
         for a in d["also"]:
             assert f"→ {d['cause']}" in printed and f" + {a['cause']} " in printed
+    # the knee and ankle trials' subject has OpenSim's limit forces at its swept ends: the truth is printed
+    # beside the finding, and a stop named there sits within the limit force's onset and transition
+    for d in report["diagnosis"]:
+        assert (d["simulated_truth"] is not None) == (d["protocol"] in ("knee", "ankle")), d["protocol"]
+        if d["protocol"] in ("knee", "ankle"):
+            assert f"the simulated subject: {d['simulated_truth']}" in printed
+            if d["cause"] == "hard_stop":
+                onset = {"knee": 80.0, "ankle": 10.0}[d["protocol"]]  # demo_subject.json's upper limits
+                assert onset <= d["parameters"]["stop_angle_deg"] <= onset + 5.0
     pmp = report["pmp"]
     assert "parameters" in pmp and pmp["identifiability"]["undetermined"]  # the report says what is free
     assert len(pmp["forward_dynamics"]) == 6  # knee at hip 90/55/15°, ankle at knee 0/45/90°
