@@ -59,6 +59,12 @@ AFO_STOP_MAX_DELTA_BIC = 3.0
 #: benchmarks use) this removed 3 of 5 false stops on 300 clean ankle trials, 1 of 1 on 300 knee and
 #: 1 of 3 on 600 AFO trials, while the 240 true stops named (3–5× the noise) had fitted ratios ≥ 2.16
 MIN_PEAK_TO_NOISE = 2.0
+#: Measured and left out (twenty-fourth stop): a stop required to hold both ways where the trial passes it both ways
+#: (fitted without the samples past it moving outward it had to predict them better than no stop, and likewise those
+#: moving back; an elastic torque is a function of angle, a friction's, damping's or delay's law mismatch at the range's
+#: end is odd in velocity). On development seeds 800000 of the second to fifteenth families (280 trials: clean, single
+#: stops, friction, damping, delay, inertia and stop + friction per kind) it removed none of the 10 spurious stops (they
+#: hold both ways: a passive end's shape, not a reversal's transient) and lost 3 of 15 true stops (right 183 → 180)
 MAX_RATE_HZ = 200.0  # the diagnosis works on block means at this rate at most (passive effects are < 10 Hz)
 #: ... and on at most this many samples: a long recording is averaged over longer blocks (never below
 #: MIN_RATE_HZ, where the shortest burst, 0.15 s, still spans 7 samples). A 5-min trial at 1 kHz (300,000
