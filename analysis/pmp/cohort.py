@@ -47,6 +47,7 @@ from .identifiability import autocorrelation_time, identifiability, smoothed
 from .model import PmpTrial, Subject, moment_function, with_set_angles
 from .muscles import LegMuscles
 from .problem import estimate
+from .workers import mapped
 
 #: bumped when a change to the fit or the resampling changes results (invalidates stored results)
 METHOD_VERSION = "cohort-7"  # cohort-7: the refit also from the diagnosis's fit, plausible models in the intervals
@@ -106,7 +107,7 @@ def condition_of(trial: PmpTrial) -> tuple[str, tuple[tuple[str, float], ...]]:
 
 def fitted_torque_nm(trial: PmpTrial, subject: Subject, parameters: dict[str, float], leg: LegMuscles) -> np.ndarray:
     """The quasi-static model's dynamometer torque at the trial's (smoothed) angles (N·m)."""
-    f = moment_function(leg, trial, parameters).map(trial.angle_rad.size)
+    f = mapped(moment_function(leg, trial, parameters), trial.angle_rad.size)
     q = smoothed(trial.angle_rad)
     moment = np.asarray(f(q.reshape(1, -1))).ravel()
     return -(moment + subject.gravity_moment_nm(trial.joint, q, trial.fixed_rad))

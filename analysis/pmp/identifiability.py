@@ -23,6 +23,7 @@ from .model import (
 )
 from .muscles import LegMuscles
 from .problem import PmpResult
+from .workers import mapped
 
 #: the residual may be at most this many times the measurement noise for anything to count as determined
 MISFIT_LIMIT = 3.0
@@ -142,7 +143,7 @@ def _model_and_sensitivities(symbols: list[Any], model_u: Any, derived: list[Any
     n_rel = int(symbols[2].numel() + symbols[3].numel())
 
     def at(idx: np.ndarray, outputs: list[Any]) -> list[np.ndarray]:
-        out = ca.Function("u", symbols, outputs).map(idx.size)(
+        out = mapped(ca.Function("u", symbols, outputs), idx.size)(
             angle[idx].reshape(1, -1), velocity[idx].reshape(1, -1), ca.repmat(ca.DM.ones(symbols[2].numel()), 1, idx.size),
             ca.DM.zeros(symbols[3].numel(), idx.size))
         return [np.asarray(o) for o in (out if isinstance(out, (list, tuple)) else [out])]

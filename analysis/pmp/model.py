@@ -18,6 +18,7 @@ from ..constants import GRAVITY_M_S2
 from .curves import active_fiber_force, passive_fiber_force, tendon_force
 from .geometry import MUSCLES
 from .muscles import COMPLIANT, LegMuscles, scale_for_subject, thigh_over_shank_for_subject
+from .workers import mapped
 
 G = GRAVITY_M_S2
 #: tendon slack length bounds, relative to the (scaled) generic value: subjects 20 % longer or
@@ -213,7 +214,7 @@ def path_taylor(leg: LegMuscles, trial: PmpTrial, anchors_rad: np.ndarray) -> tu
         return leg.path_cache[key]
     names, taylor = _taylor_function(leg, trial.joint)
     fixed = np.array([[trial.fixed_rad.get(j, 0.0)] for j in ("hip", "knee", "ankle")])
-    values = taylor.map(anchors_rad.size)(anchors_rad.reshape(1, -1), np.repeat(fixed, anchors_rad.size, axis=1))
+    values = mapped(taylor, anchors_rad.size)(anchors_rad.reshape(1, -1), np.repeat(fixed, anchors_rad.size, axis=1))
     _make_room(leg)
     leg.path_cache[key] = (names, np.asarray(values))
     return leg.path_cache[key]

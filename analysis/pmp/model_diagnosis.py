@@ -53,6 +53,7 @@ from .geometry import MUSCLES
 from .model import PmpTrial, Subject, eliminate_tendons, muscles_moment, with_set_angles
 from .muscles import COMPLIANT, LegMuscles
 from .problem import PmpResult, build_problem, estimate, solve
+from .workers import mapped, workers
 
 FRICTION_SPEED_RAD_S = math.radians(1.0)
 #: when the plain model's held-out error is this many times its in-sample error, the folds do not
@@ -385,7 +386,7 @@ def predict_torque_nm(result: PmpResult, trial: PmpTrial, subject: Subject, leg:
         muscles = muscles * ca.jacobian(q_joint, q_s)
     gravity = subject.gravity_moment_nm(trial.joint, q_s, trial.fixed_rad, ca.cos)
     total = gravity + muscles + (extension.moment(trial, q_s, v_s, ext, gravity) if extension is not None else 0)
-    f = ca.Function("m", [q_s, v_s], [total]).map(idx.size)
+    f = mapped(ca.Function("m", [q_s, v_s], [total]), idx.size)
     m = np.asarray(f(trial.angle_rad[idx][None, :], trial.velocity_rad_s[idx][None, :])).ravel()
     acc = np.gradient(trial.velocity_rad_s, trial.time_s)[idx]
     return idx, subject.inertia_kgm2(trial.joint) * acc - m
@@ -511,24 +512,10 @@ def held_out_folds(trials: list[PmpTrial], points: int = 60) -> list[Fold]:
     return out
 
 
-#: the most processes the model-level diagnosis fits its folds in (each fit is one IPOPT solve on one core)
-MAX_FIT_WORKERS = 2
-
-
 def fit_workers() -> int:
-    """Processes for the folds' fits: ``INSTRUMENT_FIT_WORKERS`` if set (a host already busy with other
-    processes: 1 fits here), else one per core this process may use, at most :data:`MAX_FIT_WORKERS`; 1
-    (fit here) inside a daemonic process (a pool's worker), which may not start children."""
-    import multiprocessing
-    import os
-
-    if multiprocessing.current_process().daemon:
-        return 1
-    if os.environ.get("INSTRUMENT_FIT_WORKERS", "").strip():
-        return max(1, int(os.environ["INSTRUMENT_FIT_WORKERS"]))
-
-    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
-    return max(1, min(MAX_FIT_WORKERS, cores))
+    """Processes for the folds' fits (:func:`analysis.pmp.workers.workers`: ``INSTRUMENT_FIT_WORKERS`` if set, else
+    one per core, at most two; 1, fit here, inside a pool's worker, which may not start children)."""
+    return workers()
 
 
 _WORKER: dict[str, Any] = {}

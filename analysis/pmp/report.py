@@ -21,6 +21,7 @@ from .model import moment_function, with_set_angles
 from .muscles import COMPLIANT, LegMuscles
 from .stiffness import FIGURE_QUANTITIES, achilles_stiffness_kn_per_m, representative_values
 from .verify import Verification, forward_dynamics
+from .workers import mapped
 
 if TYPE_CHECKING:
     from .model_diagnosis import Extension
@@ -263,8 +264,8 @@ def analyse(trials: list[PmpTrial], subject: Subject, intervals: int = 24, diagn
                                for a, w in zip(q, v)])
             options = fitted_extension.muscle_options(t, values)
             if options:  # what it changes in the muscles: the extended muscles' moment less the plain ones'
-                moment = moment + (np.asarray(moment_function(leg, t, res.parameters, **options).map(q.size)(
-                    q[None, :])).ravel() - np.asarray(moment_function(leg, t, res.parameters).map(q.size)(
+                moment = moment + (np.asarray(mapped(moment_function(leg, t, res.parameters, **options), q.size)(
+                    q[None, :])).ravel() - np.asarray(mapped(moment_function(leg, t, res.parameters), q.size)(
                         q[None, :])).ravel())
             contribution.append((np.rad2deg(q).tolist(), moment.tolist()))
         extended = ExtendedModel(extension=fitted_extension.name, description=fitted_extension.description,
@@ -500,9 +501,13 @@ def _fit_figure(report: PmpReport) -> Any:
 
     res: PmpResult = report.result
     n = len(res.trials)
-    fig = Figure(figsize=(4.5 * n, 6.5), layout="constrained")
+    width_in = 4.5 * n
+    fig = Figure(figsize=(width_in, 6.5))
     FigureCanvasAgg(fig)
-    axes = fig.subplots(2, n, squeeze=False)
+    # fixed margins (inches over the figure's size): a constrained layout drew the figure twice, 0.9 s of a report
+    axes = fig.subplots(2, n, squeeze=False, gridspec_kw={"left": 0.8 / width_in, "right": 1 - 0.15 / width_in,
+                                                            "bottom": 0.5 / 6.5, "top": 1 - 0.3 / 6.5,
+                                                            "wspace": 0.9 / 4.5, "hspace": 0.75 / 3.25})
     for i, (tr, fd) in enumerate(zip(res.trials, report.forward_dynamics)):
         a, b = axes[0, i], axes[1, i]
         a.plot(np.rad2deg(tr["measured_angle_rad"]), tr["measured_torque_nm"], ".", ms=2, color="0.5", label="measured")

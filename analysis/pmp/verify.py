@@ -20,6 +20,7 @@ import numpy as np
 
 from .estimator import PmpTrial, Subject, moment_function
 from .muscles import LegMuscles
+from .workers import mapped
 
 DAMPING_NM_S_PER_RAD = 0.5
 #: Runge–Kutta steps per measured sample (a 100 Hz trial: 2.5 ms steps)
@@ -59,7 +60,7 @@ def forward_dynamics(trial: PmpTrial, subject: Subject, parameters: dict[str, fl
     inertia = subject.inertia_kgm2(trial.joint)
     lo, hi = float(np.min(trial.angle_rad)) - TABLE_MARGIN_RAD, float(np.max(trial.angle_rad)) + TABLE_MARGIN_RAD
     grid = np.linspace(lo, hi, int(np.ceil((hi - lo) / TABLE_STEP_RAD)) + 1)
-    table = np.asarray(f.map(grid.size)(grid.reshape(1, -1))).ravel()
+    table = np.asarray(mapped(f, grid.size)(grid.reshape(1, -1))).ravel()
     # the table where the equilibrium has a solution over all of it (else the moment function itself, in SX);
     # beyond the table the simulated leg is ≥ 10° from every measured angle, its RMSE shows that
     tabulated = bool(np.all(np.isfinite(table)))
@@ -101,7 +102,7 @@ def forward_dynamics(trial: PmpTrial, subject: Subject, parameters: dict[str, fl
     if not np.all(np.isfinite(q_sim)):
         q_sim = np.full(n, np.nan)
     q_s, v_s = ca.SX.sym("q"), ca.SX.sym("v")  # the holding torque from the moment function itself, not the table
-    holding = ca.Function("u", [q_s, v_s], [-total_moment(f, q_s, v_s)]).map(n)
+    holding = mapped(ca.Function("u", [q_s, v_s], [-total_moment(f, q_s, v_s)]), n)
     # the torque holding the measured angles at the measured speeds
     model_u = np.asarray(holding(trial.angle_rad.reshape(1, -1), trial.velocity_rad_s.reshape(1, -1))).ravel()
     return Verification(trial.name, trial.time_s, q_sim, model_u,
