@@ -95,13 +95,10 @@ def softplus_excess(x: np.ndarray, width: float) -> np.ndarray:
 
 def qlv_relaxed(elastic: np.ndarray, t: np.ndarray, g_inf: float, tau_s: float) -> np.ndarray:
     """Fung's quasi-linear viscoelastic torque: ∫ G(t − s)·dT_e(s) with G(t) = g∞ + (1 − g∞)·e^{−t/τ}, the history
-    starting at rest on the first sample (T = g∞·T_e + (1 − g∞)·h, h the elastic increments decayed by e^{−Δt/τ})."""
-    h = np.empty_like(elastic)
-    h[0] = elastic[0]
-    dt = np.diff(t, prepend=t[0])
-    decay = np.exp(-dt / tau_s)
-    for i in range(1, elastic.size):
-        h[i] = decay[i] * h[i - 1] + (elastic[i] - elastic[i - 1])
+    starting at rest on the first sample (T = g∞·T_e + (1 − g∞)·h, h the elastic increments decayed by e^{−Δt/τ} per
+    sample of the uniform time ``t``)."""
+    decay = float(np.exp(-(t[1] - t[0]) / tau_s)) if t.size > 1 else 0.0
+    h = lfilter([1.0], [1.0, -decay], np.diff(elastic, prepend=0.0))
     return g_inf * elastic + (1.0 - g_inf) * h
 
 
@@ -155,13 +152,10 @@ def dip_friction(vel_deg_s: np.ndarray, dip: float, v_dip: float, ratio: float, 
 
 
 def first_order_lag(x: np.ndarray, t: np.ndarray, tau_s: float) -> np.ndarray:
-    """``x`` through a first-order lag of ``tau_s`` (exact for x held over each step), starting at ``x[0]``."""
-    y = np.empty_like(x)
-    y[0] = x[0]
-    a = np.exp(-np.diff(t, prepend=t[0]) / tau_s)
-    for i in range(1, x.size):
-        y[i] = a[i] * y[i - 1] + (1.0 - a[i]) * x[i]
-    return y
+    """``x`` through a first-order lag of ``tau_s`` on the uniform time ``t`` (exact for x held over each step),
+    starting at ``x[0]``."""
+    a = float(np.exp(-(t[1] - t[0]) / tau_s)) if t.size > 1 else 0.0
+    return np.asarray(lfilter([1.0 - a], [1.0, -a], x, zi=[a * float(x[0])])[0])
 
 
 def wiechert_damping(vel: np.ndarray, t: np.ndarray, tau_fast: float, tau_slow: float, share_fast: float
