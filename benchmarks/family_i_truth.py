@@ -52,9 +52,8 @@ import numpy as np
 # the scoring contract every family shares with the harness (benchmarks.diagnosis_family_b): the effects each kind
 # may hide, the engine's magnitude key per cause, the trial record; the physics below is this family's own
 from .family_b_truth import EFFECTS, MAGNITUDE_KEY, FamilyBTrial
-from .family_scaffold import damage_recording, draw_subject, kinematics, protocol_set_up, trial_rng
+from .family_scaffold import GRAVITY, coupled_onsets, damage_recording, draw_subject, kinematics, protocol_set_up, trial_rng
 
-GRAVITY = 9.81
 NOISE_SD_NM = {"afo": 0.05, "knee": 0.2, "ankle": 0.11}
 
 
@@ -113,11 +112,8 @@ def _passive(kind: str, deg: np.ndarray, fixed: dict[str, float], c: dict[str, f
         return c["k"] * recruited(deg - c["engage"], c["scale"], c["shape"])
     # a two-joint muscle stretched by the other joint engages earlier: the hamstrings (knee extension, the low end)
     # with hip flexion, the gastrocnemius (ankle dorsiflexion, the high end) with knee extension
-    on_low, on_high = c["on_low"], c["on_high"]
-    if kind == "knee":
-        on_low = on_low + c["shift"] * (fixed["hip_flexion_deg"] - 55.0)
-    else:
-        on_high = on_high - c["shift"] * (45.0 - fixed["knee_flexion_deg"])
+    # the ends toward the two-joint muscles moved by the other joint's angle
+    on_low, on_high = coupled_onsets(kind, c["on_low"], c["on_high"], c["shift"], fixed)
     low = recruited(on_low - deg, c["scale_low"], c["shape_low"])
     high = recruited(deg - on_high, c["scale_high"], c["shape_high"])
     low_ref = float(recruited(np.array([c["on_low"] - lo]), c["scale_low"], c["shape_low"])[0])

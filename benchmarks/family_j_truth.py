@@ -60,9 +60,17 @@ import numpy as np
 # the scoring contract every family shares with the harness (benchmarks.diagnosis_family_b): the effects each kind
 # may hide, the engine's magnitude key per cause, the trial record; the physics below is this family's own
 from .family_b_truth import EFFECTS, MAGNITUDE_KEY, FamilyBTrial
-from .family_scaffold import damage_recording, draw_subject, kinematics, protocol_set_up, segment_direction, trial_rng
+from .family_scaffold import (
+    GRAVITY,
+    coupled_onsets,
+    damage_recording,
+    draw_subject,
+    kinematics,
+    protocol_set_up,
+    segment_direction,
+    trial_rng,
+)
 
-GRAVITY = 9.81
 NOISE_SD_NM = {"afo": 0.06, "knee": 0.19, "ankle": 0.12}
 #: de Leva (1996): mass fraction, centre from the proximal joint and radius of gyration (fractions of the length)
 SHANK = (0.0433, 0.4459, 0.255)
@@ -131,11 +139,8 @@ def _passive(kind: str, deg: np.ndarray, fixed: dict[str, float], c: dict[str, A
     if kind == "afo":
         engaged = table_moment(deg - c["engage"], c["spacing"], c["table"])
         return c["k"] * engaged * (1.0 - c["soften"] * np.clip(deg / 20.0, 0.0, 1.0))
-    on_low, on_high = c["on_low"], c["on_high"]
-    if kind == "knee":  # the hamstrings (the extension end) engage earlier with the hip flexed
-        on_low = on_low + c["shift"] * (fixed["hip_flexion_deg"] - 55.0)
-    else:  # the gastrocnemius (the dorsiflexion end) earlier with the knee extended
-        on_high = on_high - c["shift"] * (45.0 - fixed["knee_flexion_deg"])
+    # the ends toward the two-joint muscles moved by the other joint's angle
+    on_low, on_high = coupled_onsets(kind, c["on_low"], c["on_high"], c["shift"], fixed)
     low = table_moment(on_low - deg, c["spacing_low"], c["table_low"])
     high = table_moment(deg - on_high, c["spacing_high"], c["table_high"])
     low_ref = float(table_moment(np.array([c["on_low"] - lo]), c["spacing_low"], c["table_low"])[0])

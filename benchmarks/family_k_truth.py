@@ -60,9 +60,8 @@ import numpy as np
 # the scoring contract every family shares with the harness (benchmarks.diagnosis_family_b): the effects each kind
 # may hide, the engine's magnitude key per cause, the trial record; the physics below is this family's own
 from .family_b_truth import EFFECTS, MAGNITUDE_KEY, FamilyBTrial
-from .family_scaffold import damage_recording, draw_subject, kinematics, protocol_set_up, trial_rng
+from .family_scaffold import GRAVITY, damage_recording, draw_subject, kinematics, protocol_set_up, trial_rng
 
-GRAVITY = 9.81
 NOISE_SD_NM = {"afo": 0.06, "knee": 0.19, "ankle": 0.12}
 #: Clauser et al. (1969): mass fraction, centre from the proximal joint, radius of gyration about the centre
 #: (fractions of the segment's length)

@@ -61,9 +61,8 @@ import numpy as np
 # the scoring contract every family shares with the harness (benchmarks.diagnosis_family_b): the effects each kind
 # may hide, the engine's magnitude key per cause, the trial record; the physics below is this family's own
 from .family_b_truth import EFFECTS, MAGNITUDE_KEY, FamilyBTrial
-from .family_scaffold import damage_recording, draw_subject, kinematics, protocol_set_up, segment_direction, trial_rng
+from .family_scaffold import GRAVITY, damage_recording, draw_subject, kinematics, protocol_set_up, segment_direction, trial_rng
 
-GRAVITY = 9.81
 NOISE_SD_NM = {"afo": 0.06, "knee": 0.18, "ankle": 0.12}
 #: how much larger an end's moment grows per degree its onset moves into the range with the other joint (1/deg)
 COUPLING_PER_DEG = 0.025

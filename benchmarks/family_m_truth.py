@@ -69,6 +69,8 @@ from scipy.signal import lfilter
 # may hide, the engine's magnitude key per cause, the trial record; the physics below is this family's own
 from .family_b_truth import EFFECTS, MAGNITUDE_KEY, FamilyBTrial
 from .family_scaffold import (
+    GRAVITY,
+    coupled_onsets,
     damage_recording,
     draw_segments,
     draw_subject,
@@ -78,7 +80,6 @@ from .family_scaffold import (
     trial_rng,
 )
 
-GRAVITY = 9.81
 NOISE_SD_NM = {"afo": 0.07, "knee": 0.17, "ankle": 0.13}
 #: how much larger an end's moment grows per degree its onset moves into the range with the other joint (1/deg)
 COUPLING_PER_DEG = 0.02
@@ -203,11 +204,8 @@ def _passive(kind: str, deg: np.ndarray, fixed: dict[str, float], c: dict[str, A
     if kind == "afo":
         bend = c["soft"] * np.logaddexp(0.0, (deg - c["engage"]) / c["soft"])
         return c["k"] * worm_like_chain(bend, c["contour"])
-    on_low, on_high = c["on_low"], c["on_high"]
-    if kind == "knee":  # the hamstrings (the extension end) engage earlier with the hip flexed
-        on_low = on_low + c["shift"] * (fixed["hip_flexion_deg"] - 55.0)
-    else:  # the gastrocnemius (the dorsiflexion end) earlier with the knee extended
-        on_high = on_high - c["shift"] * (45.0 - fixed["knee_flexion_deg"])
+    # the ends toward the two-joint muscles moved by the other joint's angle
+    on_low, on_high = coupled_onsets(kind, c["on_low"], c["on_high"], c["shift"], fixed)
     t_low = c["t_low"] * np.exp(COUPLING_PER_DEG * (on_low - c["on_low"]))
     t_high = c["t_high"] * np.exp(COUPLING_PER_DEG * (c["on_high"] - on_high))
     # each end's contour from its nominal onset, so that a moved onset never reaches the pole inside the range

@@ -71,6 +71,8 @@ from scipy.signal import bilinear, group_delay, lfilter, lfilter_zi
 # may hide, the engine's magnitude key per cause, the trial record; the physics below is this family's own
 from .family_b_truth import EFFECTS, MAGNITUDE_KEY, FamilyBTrial
 from .family_scaffold import (
+    GRAVITY,
+    coupled_onsets,
     damage_recording,
     draw_segments,
     draw_subject,
@@ -80,7 +82,6 @@ from .family_scaffold import (
     trial_rng,
 )
 
-GRAVITY = 9.81
 NOISE_SD_NM = {"afo": 0.07, "knee": 0.17, "ankle": 0.13}
 #: how far (deg) an end's onset moves per degree of the other joint's angle away from its middle setting
 COUPLING_SHIFT = (0.05, 0.2)
@@ -199,11 +200,8 @@ def _passive(kind: str, deg: np.ndarray, fixed: dict[str, float], c: dict[str, A
         x = deg - c["engage"]
         bend = 0.5 * (x + np.sqrt(x * x + c["soft"] ** 2))  # a hyperbola: smooth through the engagement
         return c["k"] * ((1.0 - c["q"]) * bend + c["q"] * c["yield"] * np.tanh(bend / c["yield"]))
-    on_low, on_high = c["on_low"], c["on_high"]
-    if kind == "knee":  # the hamstrings (the extension end) engage earlier with the hip flexed
-        on_low = on_low + c["shift"] * (fixed["hip_flexion_deg"] - 55.0)
-    else:  # the gastrocnemius (the dorsiflexion end) earlier with the knee extended
-        on_high = on_high - c["shift"] * (45.0 - fixed["knee_flexion_deg"])
+    # the ends toward the two-joint muscles moved by the other joint's angle
+    on_low, on_high = coupled_onsets(kind, c["on_low"], c["on_high"], c["shift"], fixed)
     lo, span = c["lo"], c["hi"] - c["lo"]
 
     def path(a: np.ndarray | float) -> np.ndarray:  # ∫ (1 + a·sin(πu)) dθ, deg

@@ -73,6 +73,8 @@ from scipy.special import ndtr
 # may hide, the engine's magnitude key per cause, the trial record; the physics below is this family's own
 from .family_b_truth import EFFECTS, MAGNITUDE_KEY, FamilyBTrial
 from .family_scaffold import (
+    GRAVITY,
+    coupled_onsets,
     damage_recording,
     draw_segments,
     draw_subject,
@@ -82,7 +84,6 @@ from .family_scaffold import (
     trial_rng,
 )
 
-GRAVITY = 9.81
 NOISE_SD_NM = {"afo": 0.07, "knee": 0.17, "ankle": 0.13}
 #: how far (deg) an end's onset moves per degree of the other joint's angle away from its middle setting
 COUPLING_SHIFT = (0.05, 0.2)
@@ -242,11 +243,8 @@ def _passive(kind: str, deg: np.ndarray, fixed: dict[str, float], c: dict[str, A
     if kind == "afo":
         bend = smooth_excess(deg - c["engage"], c["soft"])
         return ramberg_osgood_torque(bend, c["k"], c["yield"], c["a"], c["n"])
-    on_low, on_high = c["on_low"], c["on_high"]
-    if kind == "knee":  # the hamstrings (the extension end) engage earlier with the hip flexed
-        on_low = on_low + c["shift"] * (fixed["hip_flexion_deg"] - 55.0)
-    else:  # the gastrocnemius (the dorsiflexion end) earlier with the knee extended
-        on_high = on_high - c["shift"] * (45.0 - fixed["knee_flexion_deg"])
+    # the ends toward the two-joint muscles moved by the other joint's angle
+    on_low, on_high = coupled_onsets(kind, c["on_low"], c["on_high"], c["shift"], fixed)
 
     def end(x: np.ndarray, which: str) -> np.ndarray:
         return ogden_stress(1.0 + smooth_excess(x, c[f"w_{which}"]) / c[f"len_{which}"], c[f"alpha_{which}"])

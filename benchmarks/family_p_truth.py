@@ -72,6 +72,8 @@ from scipy.signal import firwin, lfilter
 # may hide, the engine's magnitude key per cause, the trial record; the physics below is this family's own
 from .family_b_truth import EFFECTS, MAGNITUDE_KEY, FamilyBTrial
 from .family_scaffold import (
+    GRAVITY,
+    coupled_onsets,
     damage_recording,
     draw_segments,
     draw_subject,
@@ -81,7 +83,6 @@ from .family_scaffold import (
     trial_rng,
 )
 
-GRAVITY = 9.81
 NOISE_SD_NM = {"afo": 0.07, "knee": 0.17, "ankle": 0.13}
 #: how far (deg) an end's onset moves per degree of the other joint's angle away from its middle setting
 COUPLING_SHIFT = (0.05, 0.2)
@@ -228,11 +229,8 @@ def _elastic(kind: str, deg: np.ndarray, fixed: dict[str, float], c: dict[str, A
         bend = np.maximum(deg - c["engage"], 0.0)
         preload = c["preload"] / (1.0 + np.exp(-(deg - c["engage"]) / c["snap"]))
         return preload + c["k"] * bend
-    on_low, on_high = c["on_low"], c["on_high"]
-    if kind == "knee":  # the hamstrings (the extension end) engage earlier with the hip flexed
-        on_low = on_low + c["shift"] * (fixed["hip_flexion_deg"] - 55.0)
-    else:  # the gastrocnemius (the dorsiflexion end) earlier with the knee extended
-        on_high = on_high - c["shift"] * (45.0 - fixed["knee_flexion_deg"])
+    # the ends toward the two-joint muscles moved by the other joint's angle
+    on_low, on_high = coupled_onsets(kind, c["on_low"], c["on_high"], c["shift"], fixed)
 
     def end(x: np.ndarray, which: str) -> np.ndarray:
         return np.expm1(softplus_excess(x, c[f"round_{which}"]) / c[f"w_{which}"])

@@ -3,8 +3,10 @@ kind, effects and seed (the fifth to thirteenth families), the subject drawn for
 recording's damage (the seventh to thirteenth): quantised torque and angle (with an angle offset), a clock fast or
 slow with jitter, rows dropped singly and in runs, NaN cells in any column; the protocol's set-up (the ninth to
 thirteenth): the other joint's set angle, the swept range and the motion's kinematics; and the distal segment's
-direction in the sagittal plane (the tenth, twelfth and thirteenth), and the moving segments' load about the
-joint (the thirteenth to fifteenth).
+direction in the sagittal plane (the tenth, twelfth and thirteenth), the moving segments' load about the
+joint (the thirteenth to sixteenth), the passive ends' onsets moved by the other joint's angle (the ninth, tenth and
+thirteenth to sixteenth) and the value of gravity (the fifth to sixteenth; the third and fourth keep their own, as their
+docstrings promise nothing imported).
 
 Each family draws its own ranges; the draws are made in one fixed order, so a family's trials are the same as when
 each wrote these out (checked on 450 trials of the five families, every array identical).
@@ -18,6 +20,9 @@ from typing import NamedTuple
 import numpy as np
 
 from .family_b_truth import EFFECTS
+
+#: standard gravity (m/s²), the one value every family's limb weight uses
+GRAVITY = 9.81
 
 
 def trial_rng(family: tuple[int, ...], kind: str, effects: tuple[str, ...], seed: int) -> np.random.Generator:
@@ -94,6 +99,15 @@ def protocol_set_up(rng: np.random.Generator, kind: str,
     return fixed, 0.0, float(deg.max()), deg
 
 
+def coupled_onsets(kind: str, on_low: float, on_high: float, shift: float, fixed: dict[str, float]) -> tuple[float, float]:
+    """(low, high) onsets (deg) of a joint's passive ends moved by the other joint's set angle, ``shift`` degrees per
+    degree away from its middle setting: the knee's extension end (the hamstrings) engages earlier with the hip
+    flexed past 55°, the ankle's dorsiflexion end (the gastrocnemius) earlier with the knee extended below 45°."""
+    if kind == "knee":
+        return on_low + shift * (fixed["hip_flexion_deg"] - 55.0), on_high
+    return on_low, on_high - shift * (45.0 - fixed["knee_flexion_deg"])
+
+
 def segment_direction(kind: str, rad: np.ndarray, fixed: dict[str, float]) -> np.ndarray:
     """The distal segment's direction (rad from the horizontal, sagittal plane): the knee's shank horizontal at 0°
     flexion (the thigh horizontal), the foot's from the ankle angle and the knee's flexion."""
@@ -142,5 +156,5 @@ def kinematics(deg: np.ndarray, rate: float) -> tuple[np.ndarray, np.ndarray, np
     return t, rad, vel, np.gradient(vel, t)
 
 
-__all__ = ["LimbLoad", "damage_recording", "draw_segments", "draw_subject", "kinematics", "limb_load", "protocol_set_up",
-           "segment_direction", "trial_rng"]
+__all__ = ["GRAVITY", "LimbLoad", "coupled_onsets", "damage_recording", "draw_segments", "draw_subject", "kinematics",
+           "limb_load", "protocol_set_up", "segment_direction", "trial_rng"]
