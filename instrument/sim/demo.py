@@ -262,7 +262,8 @@ def diagnose_recordings(out: Path) -> list[dict[str, Any]]:
     store.close()
     (out / "diagnosis").mkdir(exist_ok=True)
     for protocol, t in picked.items():
-        d = diagnose(from_table(loaded[protocol].table()))
+        table = loaded[protocol].table()  # built from the recording once: the diagnosis and the truth line read it
+        d = diagnose(from_table(table))
         plot = write_diagnosis_plot(d, out / "diagnosis" / f"trial{t.id}-{protocol}.png")
         amb = f" (or {', '.join(d.ambiguous_with)})" if d.ambiguous_with else ""
         def listed(p: dict[str, float]) -> str:
@@ -270,7 +271,7 @@ def diagnose_recordings(out: Path) -> list[dict[str, Any]]:
         params = listed(d.parameters) + "".join(f" + {a['cause']} {listed(a['parameters'])}" for a in d.also)
         print(f"  trial {t.id} {protocol:<8} → {d.cause}{amb} {params}; RMSE {d.baseline_rmse_nm:.3f} → "
               f"{d.extended_rmse_nm:.3f} N·m, held-out ratio {d.heldout_rmse_ratio:.2f}  [{plot.name}]")
-        truth = kinds.get(protocol).simulated_truth(loaded[protocol].table().sidecar)
+        truth = kinds.get(protocol).simulated_truth(table.sidecar)
         if truth:
             print(f"      the simulated subject: {truth}")
         for n in d.notes[:2]:
