@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -123,12 +124,41 @@ def parameters_at_bound(result: PmpResult, names: list[str] | None = None) -> li
 
 #: the model's parameter Jacobian (and its finite differences in shank, set angle and mass) is evaluated at every
 #: JACOBIAN_STRIDE-th sample and at the last, and interpolated between by a cubic spline in the sample index; the
-#: model's torque itself at every sample. Each Jacobian row solves the calf tendons' equilibrium and its sensitivity
-#: (≈ 0.4 ms a sample): every sample took 5 s of a plain report's 20 s on six 5 °/s sweeps (measured 2026-11-27:
-#: 7.4 → 3.5 s, 5.2 → 3.8 s on two OpenSim-made subjects, 1.6 → 0.9 s on the synthetic one). Samples 4 apart are
+#: model's torque itself at every sample (tabulated in angle: TORQUE_TABLE_STEP_RAD). Each Jacobian row solves the calf
+#: tendons' equilibrium and its sensitivity (≈ 0.4 ms a sample): every sample took 5 s of a plain report's 20 s on six
+#: 5 °/s sweeps (measured 2026-11-27: 7.4 → 3.5 s, 5.2 → 3.8 s on two OpenSim-made subjects, 1.6 → 0.9 s on the
+#: synthetic one). Samples 4 apart are
 #: 0.2° at 5 °/s, where the rows are smooth: the 95 % intervals moved by at most 1.7e-6 of their width, the same
 #: parameters determined, the same misfit (tests/analysis/test_pmp_estimator.py holds it to 1e-4)
 JACOBIAN_STRIDE = 4
+#: the model's torque at every sample is tabulated over the trial's angles at this step (rad) and interpolated by a cubic
+#: spline in angle, where the model has no velocity term: one equilibrium solve per 0.25° instead of per sample (a 5 °/s
+#: sweep at 100 Hz has 20 samples per degree). A cubic spline of an exponential moment M(q) = A·e^{k q} (k ≈ 10 /rad)
+#: at h = 0.25° is off by k⁴ M h⁴ / 384 ≈ 1e-8 M. On the same two subjects as verify.TABLE_STEP_RAD's: every number of
+#: the identifiability (intervals, bounds, misfit) within 2.3e-6 of its value with every sample evaluated, the same
+#: parameters determined; 9.9 → 6.2 s on the compliant-tendon subject's extended fit (a loaded machine)
+TORQUE_TABLE_STEP_RAD = float(np.deg2rad(0.25))
+
+
+def _torque_at_every_sample(symbols: list[Any], model_u: Any, angle: np.ndarray, velocity: np.ndarray,
+                            at: Callable[[np.ndarray, list[Any]], list[np.ndarray]]) -> np.ndarray:
+    """The model's torque ``model_u`` (N·m) at every sample: where it is a function of the angle alone (no velocity
+    term in the model), tabulated over the trial's angles at :data:`TORQUE_TABLE_STEP_RAD` and interpolated by a cubic
+    spline in angle; else (or where the table has no value) evaluated at each sample."""
+    import casadi as ca
+    from scipy.interpolate import CubicSpline
+
+    lo, hi = float(np.min(angle)), float(np.max(angle))
+    points = int(np.ceil((hi - lo) / TORQUE_TABLE_STEP_RAD)) + 1
+    if not ca.depends_on(model_u, symbols[1]) and 4 <= points < angle.size:
+        grid = np.linspace(lo, hi, points)
+        f = ca.Function("u", symbols, [model_u])
+        table = np.asarray(mapped(f, points)(grid.reshape(1, -1), np.zeros((1, points)),
+                                             ca.repmat(ca.DM.ones(symbols[2].numel()), 1, points),
+                                             ca.DM.zeros(symbols[3].numel(), points))).ravel()
+        if np.all(np.isfinite(table)):
+            return np.asarray(CubicSpline(grid, table)(angle))
+    return at(np.arange(angle.size), [model_u])[0].ravel()
 
 
 def _model_and_sensitivities(symbols: list[Any], model_u: Any, derived: list[Any], angle: np.ndarray,
@@ -159,7 +189,7 @@ def _model_and_sensitivities(symbols: list[Any], model_u: Any, derived: list[Any
     if sub.size >= 4 and sub.size < n:
         coarse = rows(at(sub, [model_u, *derived]))
         if np.all(np.isfinite(coarse)):
-            return at(every, [model_u])[0].ravel(), CubicSpline(sub, coarse, axis=0)(every)
+            return _torque_at_every_sample(symbols, model_u, angle, velocity, at), CubicSpline(sub, coarse, axis=0)(every)
     out = at(every, [model_u, *derived])
     return out[0].ravel(), rows(out)
 
