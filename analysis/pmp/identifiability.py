@@ -127,9 +127,9 @@ def parameters_at_bound(result: PmpResult, names: list[str] | None = None) -> li
 #: model's torque itself at every sample (tabulated in angle: TORQUE_TABLE_STEP_RAD). Each Jacobian row solves the calf
 #: tendons' equilibrium and its sensitivity (≈ 0.4 ms a sample): every sample took 5 s of a plain report's 20 s on six
 #: 5 °/s sweeps (measured 2026-11-27: 7.4 → 3.5 s, 5.2 → 3.8 s on two OpenSim-made subjects, 1.6 → 0.9 s on the
-#: synthetic one). Samples 4 apart are
-#: 0.2° at 5 °/s, where the rows are smooth: the 95 % intervals moved by at most 1.7e-6 of their width, the same
-#: parameters determined, the same misfit (tests/analysis/test_pmp_estimator.py holds it to 1e-4)
+#: synthetic one). Samples 4 apart are 0.2° at 5 °/s, where the rows are smooth: the 95 % intervals moved by at most
+#: 1.7e-6 of their width, the same parameters determined, the same misfit (tests/analysis/test_pmp_estimator.py holds
+#: it to 1e-4)
 JACOBIAN_STRIDE = 4
 #: the model's torque at every sample is tabulated over the trial's angles at this step (rad) and interpolated by a cubic
 #: spline in angle, where the model has no velocity term: one equilibrium solve per 0.25° instead of per sample (a 5 °/s
@@ -140,11 +140,11 @@ JACOBIAN_STRIDE = 4
 TORQUE_TABLE_STEP_RAD = float(np.deg2rad(0.25))
 
 
-def _torque_at_every_sample(symbols: list[Any], model_u: Any, angle: np.ndarray, velocity: np.ndarray,
+def _torque_at_every_sample(symbols: list[Any], model_u: Any, angle: np.ndarray,
                             at: Callable[[np.ndarray, list[Any]], list[np.ndarray]]) -> np.ndarray:
     """The model's torque ``model_u`` (N·m) at every sample: where it is a function of the angle alone (no velocity
     term in the model), tabulated over the trial's angles at :data:`TORQUE_TABLE_STEP_RAD` and interpolated by a cubic
-    spline in angle; else (or where the table has no value) evaluated at each sample."""
+    spline in angle; else (or where the table has no value) evaluated at each sample by ``at`` (indices, outputs)."""
     import casadi as ca
     from scipy.interpolate import CubicSpline
 
@@ -189,7 +189,7 @@ def _model_and_sensitivities(symbols: list[Any], model_u: Any, derived: list[Any
     if sub.size >= 4 and sub.size < n:
         coarse = rows(at(sub, [model_u, *derived]))
         if np.all(np.isfinite(coarse)):
-            return _torque_at_every_sample(symbols, model_u, angle, velocity, at), CubicSpline(sub, coarse, axis=0)(every)
+            return _torque_at_every_sample(symbols, model_u, angle, at), CubicSpline(sub, coarse, axis=0)(every)
     out = at(every, [model_u, *derived])
     return out[0].ravel(), rows(out)
 

@@ -109,7 +109,6 @@ def forward_dynamics(trial: PmpTrial, subject: Subject, parameters: dict[str, fl
     # interpolation error of the moment function; the function itself where there is no table)
     q_s, v_s = sym("q"), sym("v")
     holding = mapped(ca.Function("u", [q_s, v_s], [-total_moment(muscles, q_s, v_s)]), n)
-    # the torque holding the measured angles at the measured speeds
     model_u = np.asarray(holding(trial.angle_rad.reshape(1, -1), trial.velocity_rad_s.reshape(1, -1))).ravel()
     return Verification(trial.name, trial.time_s, q_sim, model_u,
                         float(np.rad2deg(np.sqrt(np.mean((q_sim - trial.angle_rad) ** 2)))),

@@ -233,11 +233,11 @@ def test_the_torque_tabulated_in_angle_matches_every_sample_and_a_velocity_term_
         return [np.array([float(f(a, w, 1.0, ca.DM.zeros(0, 1))) for a, w in zip(angle[idx], velocity[idx])])]
 
     elastic = 50.0 * p[0] * ca.exp(10.0 * (q - np.deg2rad(60.0)))
-    tabulated = _torque_at_every_sample([q, v, p, e], elastic, angle, velocity, at)
+    tabulated = _torque_at_every_sample([q, v, p, e], elastic, angle, at)
     exact = 50.0 * np.exp(10.0 * (angle - np.deg2rad(60.0)))
     assert not calls and np.max(np.abs(tabulated - exact)) < 1e-5
     viscous = elastic + 2.0 * v
-    per_sample = _torque_at_every_sample([q, v, p, e], viscous, angle, velocity, at)
+    per_sample = _torque_at_every_sample([q, v, p, e], viscous, angle, at)
     assert calls == [angle.size] and np.allclose(per_sample, exact + 2.0 * velocity, atol=1e-12)
 
 
