@@ -133,10 +133,11 @@ def parameters_at_bound(result: PmpResult, names: list[str] | None = None) -> li
 JACOBIAN_STRIDE = 4
 #: the model's torque at every sample is tabulated over the trial's angles at this step (rad) and interpolated by a cubic
 #: spline in angle, where the model has no velocity term: one equilibrium solve per 0.25° instead of per sample (a 5 °/s
-#: sweep at 100 Hz has 20 samples per degree). A cubic spline of an exponential moment M(q) = A·e^{k q} (k ≈ 10 /rad)
-#: at h = 0.25° is off by k⁴ M h⁴ / 384 ≈ 1e-8 M. On the same two subjects as verify.TABLE_STEP_RAD's: every number of
-#: the identifiability (intervals, bounds, misfit) within 2.3e-6 of its value with every sample evaluated, the same
-#: parameters determined; 9.9 → 6.2 s on the compliant-tendon subject's extended fit (a loaded machine)
+#: sweep at 100 Hz has 20 samples per degree). On an exponential moment M(q) = 50 N·m·e^{10 (q − q_top)} over 60° the
+#: spline is off by at most 4.9e-6 N·m (at the table's ends; the test holds it to 1e-5). On the same two subjects as
+#: verify.TABLE_STEP_RAD's: every number of the identifiability (intervals, bounds, misfit) within 2.3e-6 of its value
+#: with every sample evaluated, the same parameters determined; 9.9 → 6.2 s on the compliant-tendon subject's extended
+#: fit (measured beside a running test suite)
 TORQUE_TABLE_STEP_RAD = float(np.deg2rad(0.25))
 
 
