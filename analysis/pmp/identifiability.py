@@ -99,6 +99,10 @@ class Identifiability:
     #: reproduce (the R² of its sensitivity on theirs); near 1, the parameter is told from the extension by the
     #: curves' shapes only (a one-joint muscle beside a joint-level structure at its joint)
     extension_share: dict[str, float] = dataclasses.field(default_factory=dict)
+    #: parameters the extension's own family would have determined that its shape's uncertainty leaves open
+    #: (:meth:`analysis.pmp.model_diagnosis.Extension.shape_columns` profiled out too): told from the extension by
+    #: a shape the data cannot vouch for
+    shape_limited: list[str] = dataclasses.field(default_factory=list)
 
     def as_dict(self) -> dict[str, Any]:
         """The fields as a JSON-ready dict (the report's and the cohort store's form)."""
@@ -227,7 +231,10 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     parameters are nuisances fitted jointly: the muscles' information is the Schur complement
     I_mm − I_mn I_nn⁺ I_nm (the nuisances profiled out, to first order: a muscle parameter that
     trades against the extension gets the wider interval it deserves), and the least-squares
-    solution operator is the one with the nuisances free.
+    solution operator is the one with the nuisances free. The extension's shape is a family's, not the
+    structure's: its shape columns (:meth:`analysis.pmp.model_diagnosis.Extension.shape_columns`, e.g. more
+    exponentials at a range's end) are profiled out beside its parameters, free at zero, so a parameter told from
+    the extension only by the family's shape is not determined (:attr:`Identifiability.shape_limited`).
     """
     import casadi as ca
 
@@ -276,6 +283,7 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     scaled_leg = leg.rescaled(1.0 + step_scale, 1.0 if subject.thigh_length_m is None else 1.0 / (1.0 + step_scale))
     thigh_leg = leg.rescaled(1.0, 1.0 + step_scale)
     rows, residual_parts, noise_parts = [], [], []
+    shape_parts: list[np.ndarray] = []  # the extension's shape uncertainty: free columns at zero (Extension.shape_columns)
     undefined = 0
     for t, condition in zip(trials, condition_of, strict=True):
         model_u = model_u_of(t, leg, t.fixed_rad, subject.mass_kg)
@@ -295,6 +303,9 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
         cols[:, 1 + conditions.index(condition)] = sensitivities[:, -3] / step_angle
         cols[:, -2] = sensitivities[:, -2] / step_mass
         cols[:, -1] = sensitivities[:, -1] / step_scale
+        shape = (np.asarray(extension.shape_columns(t, angle, ext_values), dtype=float).reshape(angle.size, -1)
+                 if extension is not None else np.zeros((angle.size, 0)))
+        shape_parts.append(shape)
         rows.append(np.hstack([sensitivities[:, :-4], cols]))
         residual = u_pred - t.torque_nm[::stride]
         # where the fitted model has no value (the calf tendons without an equilibrium, an overflow) the sample
@@ -302,6 +313,7 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
         defined = np.isfinite(residual) & np.isfinite(rows[-1]).all(axis=1)
         undefined += int((~defined).sum())
         rows[-1] = rows[-1][defined]
+        shape_parts[-1] = shape_parts[-1][defined]
         residual_parts.append(residual[defined])
         # white noise from second differences (the smooth moment curve hardly has any): var(Δ²e) = 6σ²
         noise_parts.append(np.diff(t.torque_nm, 2) / np.sqrt(6.0))
@@ -314,66 +326,87 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     n_eff = float(sum(e.size / autocorrelation_time(e) for e in residual_parts))
     scale_c = sigma2 * n_samples / max(n_eff, 1.0)
     j_ext, j_meas = j_nuis[:, :len(ext_names)], j_nuis[:, len(ext_names):]
-    extension_share: dict[str, float] = {}
-    if ext_names:
-        # the extension's parameters profiled out (fitted jointly, first order): the muscles' columns (and the
-        # set angles') made orthogonal to the extension's
-        project = np.linalg.pinv(j_ext.T @ j_ext, rcond=1e-10) @ j_ext.T
-        explained = j_ext @ (project @ j)
-        # how much of each parameter's effect on the torque the extension's terms reproduce (R² of its column on
-        # theirs): near 1, the two are told apart by the curves' shapes only
-        own = np.sum(j**2, axis=0)
-        share = np.where(own > 0, np.sum(explained**2, axis=0) / np.where(own > 0, own, 1.0), 0.0)
-        extension_share = {n: float(np.clip(v, 0.0, 1.0)) for n, v in zip(names, share, strict=True)}
-        j = j - explained
-        j_meas = j_meas - j_ext @ (project @ j_meas)
-    n_set = len(conditions)
-    if set_angles_fitted:
-        # the set angles profiled out with their prior (joint covariance, first order): the muscles' information
-        # is the Schur complement I_mm − I_ms (I_ss + 1/σ²)⁻¹ I_sm, the solution operator the one with them free
-        j_set = j_meas[:, 1:1 + n_set]
-        j_meas, prior_sd = j_meas[:, [0, -2, -1]], prior_sd[[0, -2, -1]]
-        info_ss = j_set.T @ j_set / scale_c + np.eye(n_set) / subject.set_angle_sd_rad**2
-        info_ms = j.T @ j_set / scale_c
-        gain_s = np.linalg.solve(info_ss, info_ms.T)  # (n_set, k)
-        operator = j.T - gain_s.T @ j_set.T  # the muscles' normal equations with the set angles eliminated
-        info = j.T @ j / scale_c - info_ms @ gain_s
-    else:
-        operator = j.T
-        info = j.T @ j / scale_c
-    info_finite = n_samples > 0 and bool(np.all(np.isfinite(info)))
-    if not info_finite:
-        info = np.zeros_like(info)  # nothing is constrained: every parameter undetermined (the reasons say why)
-    w, vecs = np.linalg.eigh(info)
-    keep = w > 1.0 / rel_se_limit**2
-    cov = (vecs[:, keep] / w[keep]) @ vecs[:, keep].T
-    se = np.sqrt(np.maximum(np.diag(cov), 0.0))
-    # the residual's systematic part (beyond the white noise): the model error this fit shows
-    systematic = math.sqrt(max(residual_rms**2 - noise**2, 0.0))
-    # the forward model's error biases the fit by at most |a_k|·|δ| for parameter k (a_k: row k of the
-    # least-squares solution operator, restricted to the constrained directions; |δ| = RMS·√n): a bound added to
-    # the interval. Its RMS is the residual's systematic part (the error the parameters absorbed taken as no larger
-    # than the part they left), at least the physics' own error against OpenSim
-    model_error_rms = max(MODEL_PHYSICS_ERROR_NM, systematic)
-    solve_rows = (vecs[:, keep] / w[keep]) @ vecs[:, keep].T @ operator / scale_c
-    bias = np.sqrt(np.sum(solve_rows**2, axis=1)) * model_error_rms * np.sqrt(n_samples)
-    # a parameter is determined only if it has (almost) no part in the unconstrained directions
-    free_part = np.sqrt(np.sum(vecs[:, ~keep] ** 2, axis=1)) if (~keep).any() else np.zeros(len(names))
-    # the measured quantities (shank, set angles, mass) enter as they were entered; an error Δ in one shifts the
-    # estimate by C·Jᵀ·J_Δ·Δ / c (the fit's response to the torque it causes): their SDs propagated to first
-    # order (delta method) and added to the variance. Profiled into the information instead, the shank took
-    # the slack lengths' information with it and the model-error bound (≈ 90 × the SE) made nothing determined
-    sensitivity = cov @ operator @ j_meas / scale_c
-    measurement_var = np.sum((sensitivity * prior_sd[None, :]) ** 2, axis=1)
-    se_total = np.sqrt(se**2 + measurement_var)
-    half_width = 1.96 * se_total + bias
-    determined = (half_width < rel_se_limit) & (free_part < 0.1)
-    # what a tape on the thigh would add: the parameters determined were the thigh's scale known to its tape's SD
-    # (first order: the shank's nuisance would then also move the thigh's muscles less)
-    thigh_var = (sensitivity[:, -1] * prior_sd[-1]) ** 2
-    measured_sd = subject.thigh_length_sd_m / model_segment_lengths_m()["thigh_length_m"]
-    with_thigh = (1.96 * np.sqrt(se**2 + measurement_var - thigh_var * (1.0 - (measured_sd / prior_sd[-1]) ** 2))
-                  + bias < rel_se_limit) & (free_part < 0.1)
+    widths = {p.shape[1] for p in shape_parts}
+    shape_cols = np.vstack(shape_parts) if ext_names and len(widths) == 1 and widths != {0} else None
+
+    def interval_terms(j_ext: np.ndarray, j: np.ndarray, j_meas: np.ndarray, prior_sd: np.ndarray) -> dict[str, Any]:
+        """The intervals' terms with the nuisance columns ``j_ext`` profiled out (the extension's own, and its shape's)."""
+        extension_share: dict[str, float] = {}
+        if j_ext.shape[1]:
+            # the extension's parameters profiled out (fitted jointly, first order): the muscles' columns (and the
+            # set angles') made orthogonal to the extension's
+            project = np.linalg.pinv(j_ext.T @ j_ext, rcond=1e-10) @ j_ext.T
+            explained = j_ext @ (project @ j)
+            # how much of each parameter's effect on the torque the extension's terms reproduce (R² of its column on
+            # theirs): near 1, the two are told apart by the curves' shapes only
+            own = np.sum(j**2, axis=0)
+            share = np.where(own > 0, np.sum(explained**2, axis=0) / np.where(own > 0, own, 1.0), 0.0)
+            extension_share = {n: float(np.clip(v, 0.0, 1.0)) for n, v in zip(names, share, strict=True)}
+            j = j - explained
+            j_meas = j_meas - j_ext @ (project @ j_meas)
+        n_set = len(conditions)
+        if set_angles_fitted:
+            # the set angles profiled out with their prior (joint covariance, first order): the muscles' information
+            # is the Schur complement I_mm − I_ms (I_ss + 1/σ²)⁻¹ I_sm, the solution operator the one with them free
+            j_set = j_meas[:, 1:1 + n_set]
+            j_meas, prior_sd = j_meas[:, [0, -2, -1]], prior_sd[[0, -2, -1]]
+            info_ss = j_set.T @ j_set / scale_c + np.eye(n_set) / subject.set_angle_sd_rad**2
+            info_ms = j.T @ j_set / scale_c
+            gain_s = np.linalg.solve(info_ss, info_ms.T)  # (n_set, k)
+            operator = j.T - gain_s.T @ j_set.T  # the muscles' normal equations with the set angles eliminated
+            info = j.T @ j / scale_c - info_ms @ gain_s
+        else:
+            operator = j.T
+            info = j.T @ j / scale_c
+        info_finite = n_samples > 0 and bool(np.all(np.isfinite(info)))
+        if not info_finite:
+            info = np.zeros_like(info)  # nothing is constrained: every parameter undetermined (the reasons say why)
+        w, vecs = np.linalg.eigh(info)
+        keep = w > 1.0 / rel_se_limit**2
+        cov = (vecs[:, keep] / w[keep]) @ vecs[:, keep].T
+        se = np.sqrt(np.maximum(np.diag(cov), 0.0))
+        # the residual's systematic part (beyond the white noise): the model error this fit shows
+        systematic = math.sqrt(max(residual_rms**2 - noise**2, 0.0))
+        # the forward model's error biases the fit by at most |a_k|·|δ| for parameter k (a_k: row k of the
+        # least-squares solution operator, restricted to the constrained directions; |δ| = RMS·√n): a bound added to
+        # the interval. Its RMS is the residual's systematic part (the error the parameters absorbed taken as no larger
+        # than the part they left), at least the physics' own error against OpenSim
+        model_error_rms = max(MODEL_PHYSICS_ERROR_NM, systematic)
+        solve_rows = (vecs[:, keep] / w[keep]) @ vecs[:, keep].T @ operator / scale_c
+        bias = np.sqrt(np.sum(solve_rows**2, axis=1)) * model_error_rms * np.sqrt(n_samples)
+        # a parameter is determined only if it has (almost) no part in the unconstrained directions
+        free_part = np.sqrt(np.sum(vecs[:, ~keep] ** 2, axis=1)) if (~keep).any() else np.zeros(len(names))
+        # the measured quantities (shank, set angles, mass) enter as they were entered; an error Δ in one shifts the
+        # estimate by C·Jᵀ·J_Δ·Δ / c (the fit's response to the torque it causes): their SDs propagated to first
+        # order (delta method) and added to the variance. Profiled into the information instead, the shank took
+        # the slack lengths' information with it and the model-error bound (≈ 90 × the SE) made nothing determined
+        sensitivity = cov @ operator @ j_meas / scale_c
+        measurement_var = np.sum((sensitivity * prior_sd[None, :]) ** 2, axis=1)
+        se_total = np.sqrt(se**2 + measurement_var)
+        half_width = 1.96 * se_total + bias
+        determined = (half_width < rel_se_limit) & (free_part < 0.1)
+        # what a tape on the thigh would add: the parameters determined were the thigh's scale known to its tape's SD
+        # (first order: the shank's nuisance would then also move the thigh's muscles less)
+        thigh_var = (sensitivity[:, -1] * prior_sd[-1]) ** 2
+        measured_sd = subject.thigh_length_sd_m / model_segment_lengths_m()["thigh_length_m"]
+        with_thigh = (1.96 * np.sqrt(se**2 + measurement_var - thigh_var * (1.0 - (measured_sd / prior_sd[-1]) ** 2))
+                      + bias < rel_se_limit) & (free_part < 0.1)
+        return {"extension_share": extension_share, "info_finite": info_finite, "w": w, "vecs": vecs, "keep": keep,
+                "se": se, "systematic": systematic, "model_error_rms": model_error_rms, "bias": bias,
+                "free_part": free_part, "measurement_var": measurement_var, "se_total": se_total,
+                "half_width": half_width, "determined": determined, "with_thigh": with_thigh}
+
+    # the extension's shape uncertainty (Extension.shape_columns: free columns at zero) profiled out too; what the
+    # extension's own family would have determined is kept, to say which parameters its shape leaves open
+    within_family = interval_terms(j_ext, j, j_meas, prior_sd)
+    terms = (within_family if shape_cols is None else
+             interval_terms(np.hstack([j_ext, shape_cols]), j, j_meas, prior_sd))
+    extension_share, info_finite, w, vecs, keep = (terms["extension_share"], terms["info_finite"], terms["w"],
+                                                   terms["vecs"], terms["keep"])
+    systematic, model_error_rms, bias = terms["systematic"], terms["model_error_rms"], terms["bias"]
+    measurement_var, se_total, half_width = terms["measurement_var"], terms["se_total"], terms["half_width"]
+    determined, with_thigh = terms["determined"], terms["with_thigh"]
+    shape_limited = [n for n, a, b in zip(names, within_family["determined"], determined, strict=True) if a and not b]
     misfit_ratio = residual_rms / max(noise, 1e-12)
     # a residual whose systematic part stays within model_error_nm is consistent with the intervals even when the
     # noise is small (a 0.05 N·m sensor shows a 0.14 N·m model error as 3×)
@@ -414,7 +447,8 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     for i in np.flatnonzero(~keep):
         order = np.argsort(-np.abs(vecs[:, i]))[:4]
         combos.append({"eigenvalue": float(w[i]), "components": {names[k]: float(vecs[k, i]) for k in order}})
-    return Identifiability(determined=[n for n, d in zip(names, determined) if d],
+    names_determined = [n for n, d in zip(names, determined) if d]
+    return Identifiability(determined=names_determined,
             undetermined=[n for n, d in zip(names, determined) if not d],
             relative_se=dict(zip(names, se_total.tolist())),
             ci95={n: [values[k] * (1 - half_width[k]), values[k] * (1 + half_width[k])]
@@ -430,13 +464,16 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
                            f"physics' own {MODEL_PHYSICS_ERROR_NM:g} N·m)"
                            + (f"; the {extension.name} parameters fitted jointly as nuisances (profiled out)"
                               if extension is not None else "")
+                           + (f", and {shape_cols.shape[1]} terms of how its shape may differ from its family "
+                              "(free, profiled out: the extension's shape uncertainty)" if shape_cols is not None else "")
                            + measured_inputs_text(subject, set_angles_fitted),
             measurement_se_rel=dict(zip(names, np.sqrt(measurement_var).tolist())),
             measurement_nuisances=measured,
             extension=extension.name if extension is not None else None, model_misfit=model_misfit,
             thigh_would_determine=[n for n, d, w in zip(names, determined, with_thigh)
                                    if w and not d and not reasons and subject.thigh_length_m is None],
-            extension_share=extension_share)
+            extension_share=extension_share,
+            shape_limited=[n for n in shape_limited if not reasons and n not in set(names_determined)])
 
 
 def with_plausible_models(idf: Identifiability, result: PmpResult,

@@ -80,7 +80,8 @@ PROTOCOL_TO_SEPARATE = {
                               "angles (a compliant tendon flattens the curve's steep end, a slack length shifts it)",
     "end_range_structures": "end-range structures are told from the muscles by a sweep further into the range's end "
                             "and a second set angle of the other joint (a two-joint muscle changes with it, a capsule "
-                            "does not)",
+                            "does not); a one-joint muscle (soleus at the ankle, the vasti and biceps femoris' short "
+                            "head at the knee) by neither: only by its own length (its fascicles by ultrasound)",
 }
 
 
@@ -115,6 +116,14 @@ class Extension:
     #: ``muscles(trial, p)``: what the extension changes inside the muscles, as keyword arguments of
     #: :func:`analysis.pmp.model.muscles_moment` (a tonic activation, more compliant tendons); default nothing
     muscles: Callable[..., dict[str, Any]] | None = None
+    #: ``shape(trial, q, p)``: torque columns (N·m per unit, numpy, one row per angle ``q`` in rad) of how the
+    #: extension's shape may differ from its family; in the intervals they are free nuisances at zero (the
+    #: parameters told from the extension by its shape only get the width that shape's uncertainty gives them)
+    shape: Callable[..., np.ndarray] | None = None
+
+    def shape_columns(self, trial: PmpTrial, q: np.ndarray, p: Any) -> np.ndarray:
+        """The extension's shape-uncertainty columns at the angles ``q`` (rad) of ``trial`` (none: ``(n, 0)``)."""
+        return self.shape(trial, q, p) if self.shape is not None else np.zeros((np.size(q), 0))
 
     def moment(self, trial: PmpTrial, q: Any, v: Any, p: list[Any], gravity: Any) -> Any:
         return self.term(trial, q, v, p, gravity)
@@ -191,6 +200,25 @@ RIGID_TENDONED = tuple(m for m in MUSCLES if m not in COMPLIANT)
 NEAR_RIGID_TENDON_STRAIN = 0.01
 
 
+#: the rates (1/rad) of the exponentials an end-range structure's shape may hold beside its fitted one (its intervals'
+#: shape uncertainty): e-folding over 19°, 5.7° and 1.9°, a muscle the model lacks to a ligament's ramp
+END_RANGE_SHAPE_RATES_PER_RAD = (3.0, 10.0, 30.0)
+
+
+def _end_range_shape(trial: PmpTrial, q: np.ndarray, p: Any) -> np.ndarray:
+    """Exponentials at each end of the trial's joint range (N·m per unit; :data:`END_RANGE_SHAPE_RATES_PER_RAD`),
+    scaled by the fitted coupling to the other joint as the structure's own term is."""
+    lo, hi = END_RANGE_RAD[trial.joint]
+    p = np.asarray(p, dtype=float)
+    c_lo, c_hi = (p[3], p[7]) if trial.joint == "knee" else (p[11], p[15])
+    other, ref = END_RANGE_COUPLING[trial.joint]
+    d = trial.fixed_rad.get(other, ref) - ref
+    q = np.asarray(q, dtype=float)
+    cols = [np.exp(-r * (q - lo)) * math.exp(c_lo * d) for r in END_RANGE_SHAPE_RATES_PER_RAD]
+    cols += [-np.exp(r * (q - hi)) * math.exp(c_hi * d) for r in END_RANGE_SHAPE_RATES_PER_RAD]
+    return np.column_stack(cols)
+
+
 def _tonic(trial: PmpTrial, p: list[Any]) -> dict[str, Any]:
     return {"activation": _per_joint(trial, p, 0, 1)}
 
@@ -230,7 +258,8 @@ EXTENSIONS: dict[str, Extension] = {e.name: e for e in [
               # a stiffness of 1 N·m/rad (0.017 N·m/°) is below what any dynamometer resolves over a few degrees
               material=(1.0, math.inf, math.inf, math.inf) * 4, start=(5.0, 0.0, 0.1, 0.0) * 4,
               sizes=("knee_extension_end_stiffness_Nm_per_rad", "knee_flexion_end_stiffness_Nm_per_rad",
-                     "ankle_plantarflexion_end_stiffness_Nm_per_rad", "ankle_dorsiflexion_end_stiffness_Nm_per_rad")),
+                     "ankle_plantarflexion_end_stiffness_Nm_per_rad", "ankle_dorsiflexion_end_stiffness_Nm_per_rad"),
+              shape=_end_range_shape),
     Extension("tonic_activation", "a low tonic activation of every muscle crossing the joint (relaxed is never "
               "exactly zero): the isometric active force a·f_L(l_M) beside the passive one",
               ("knee_activation", "ankle_activation"), (0.01, 0.01), (0.0, 0.0), (0.05, 0.05), muscles=_tonic,
@@ -269,7 +298,8 @@ def combine(first: Extension, second: Extension) -> Extension:
         lambda t, q, v, p, g: first.moment(t, q, v, p[:n], g) + second.moment(t, q, v, p[n:], g), angle,
         first.smallest() + second.smallest(), first.start_values() + second.start_values(),
         tuple(first.sizes or first.parameters) + tuple(second.sizes or second.parameters),
-        lambda t, p: {**first.muscle_options(t, p[:n]), **second.muscle_options(t, p[n:])})
+        lambda t, p: {**first.muscle_options(t, p[:n]), **second.muscle_options(t, p[n:])},
+        lambda t, q, p: np.hstack([first.shape_columns(t, q, p[:n]), second.shape_columns(t, q, p[n:])]))
 
 
 def get_extension(name: str) -> Extension:

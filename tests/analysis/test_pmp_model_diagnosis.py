@@ -306,3 +306,40 @@ def test_a_larger_model_stops_at_the_first_fold_it_does_not_predict_better(monke
     solved.clear()
     out, whole = md._key_fits(("tonic_activation", folds, (reference, 1.1, False), None), context)
     assert len(out) == BLOCK_FOLDS and whole is not None and len(solved) == BLOCK_FOLDS + 1
+
+
+def test_a_structure_outside_the_extensions_family_leaves_the_one_joint_muscle_beside_it_open() -> None:
+    """At the ankle's dorsiflexion end a ligament's ramp (30 N·m/rad past 10°) and a wide exponential (3 /rad from
+    −10°, a muscle the model lacks) together: one end-range term cannot take both, and soleus' slack length absorbs
+    the rest (+6.7 % here). Within the extension's own family its interval (±2 %) misses that; with the extension's
+    shape uncertainty profiled out too, soleus is not determined and the report says its shape leaves it open."""
+    import math
+
+    from analysis.pmp.identifiability import identifiability
+    from analysis.pmp.model_diagnosis import get_extension
+    from analysis.pmp.report import analyse, text
+
+    truth, trials, subject = simulated_subject(7, ("ankle",))
+
+    def structure_nm(angle_rad: np.ndarray) -> np.ndarray:  # toward positive angle (dorsiflexion): resisting it
+        ramp = 30.0 * math.radians(1.0) * np.logaddexp(0.0, (angle_rad - math.radians(10.0)) / math.radians(1.0))
+        muscle = 2.0 * np.expm1(np.clip(3.0 * (angle_rad + math.radians(10.0)), 0.0, None))
+        return -(ramp + muscle)
+
+    made = [dataclasses.replace(t, torque_nm=t.torque_nm + structure_nm(t.angle_rad)) for t in trials]
+    report = analyse(made, subject, intervals=10, extension="end_range_structures")
+    idf, soleus = report.identifiability, "soleus.tendon_slack_length_m"
+    true_slack = truth.params["soleus"].tendon_slack_length_m
+    assert idf.misfit_ratio < 3.0  # the extended model fits: nothing but the intervals can tell
+    for name in idf.determined:
+        muscle, quantity = name.split(".")
+        lo, hi = idf.ci95[name]
+        assert lo <= getattr(truth.params[muscle], quantity) <= hi, name
+    assert soleus in idf.shape_limited and soleus not in idf.determined
+    line = next(x for x in text(report).splitlines() if "its shape only" in x)
+    assert soleus in line and "ultrasound" in line
+    # the extension's family alone: soleus called determined, its interval missing the truth
+    family_only = identifiability(report.result, made, subject, leg=subject.leg(),
+                                  extension=dataclasses.replace(get_extension("end_range_structures"), shape=None))
+    assert soleus in family_only.determined and not family_only.ci95[soleus][0] <= true_slack <= family_only.ci95[soleus][1]
+    assert "shape uncertainty" in idf.uncertainty and "shape uncertainty" not in family_only.uncertainty

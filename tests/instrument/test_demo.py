@@ -113,7 +113,10 @@ def test_demo_records_a_lab_day_into_a_store(demo_run: tuple[Path, str]) -> None
     # no repeats: each candidate judged by predicting held-out time blocks of every trial
     assert pmp["model_diagnosis"]["folds"] == [f"blocks {k}" for k in range(1, 5)]
     assert pmp["extended"]["misfit_ratio"] < pmp["extended"]["plain_misfit_ratio"] / 3
-    assert len(pmp["against_truth"]) >= 2 and all(c["held"] for c in pmp["against_truth"])
+    assert pmp["against_truth"] and all(c["held"] for c in pmp["against_truth"])
+    # soleus beside the ankle's end-range structures and the muscles the estimator lacks there is told from them by
+    # the extension's shape only: left open, and said (its interval within the family missed the truth on such subjects)
+    assert "soleus.tendon_slack_length_m" in pmp["identifiability"]["shape_limited"]
     replica = report["replica"]  # the rig's springs through the real Modbus driver, against the simulator's truth
     assert {"VASINT.stiffness_n_per_m", "RECFEM.stiffness_n_per_m"} <= set(replica["determined"])
     assert all(abs(replica["error_pct"][n]) < 3.5 for n in replica["determined"])
