@@ -22,10 +22,11 @@ from benchmarks.family_m_truth import generate_m
 from benchmarks.family_n_truth import generate_n
 from benchmarks.family_o_truth import generate_o
 from benchmarks.family_p_truth import generate_p
+from benchmarks.family_q_truth import generate_q
 
 GENERATORS = {"e": generate_e, "f": generate_f, "g": generate_g, "h": generate_h, "i": generate_i, "j": generate_j,
               "k": generate_k, "l": generate_l, "m": generate_m, "n": generate_n,
-              "o": generate_o, "p": generate_p}
+              "o": generate_o, "p": generate_p, "q": generate_q}
 
 
 @pytest.mark.parametrize("family", list(GENERATORS))
