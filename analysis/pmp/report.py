@@ -377,7 +377,7 @@ def text(report: PmpReport, *, timings: bool = True) -> str:
         if idf.shape_limited:
             lines.append("  told from the extension by its shape only, which the data do not fix (determined within the "
                          "extension's family, not once its shape may differ): " + ", ".join(idf.shape_limited) + "; "
-                         + protocol_to_separate(ext.extension))
+                         + ("what would separate them: as above" if traded else protocol_to_separate(ext.extension)))
         shape_only = [n for n in idf.determined if idf.extension_share.get(n, 0.0) > SHAPE_ONLY_SHARE]
         if shape_only:
             lines.append("  told from the extension by the curves' shapes only (its terms reproduce "
