@@ -401,8 +401,9 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     within_family = interval_terms(j_ext, j, j_meas, prior_sd)
     terms = (within_family if shape_cols is None else
              interval_terms(np.hstack([j_ext, shape_cols]), j, j_meas, prior_sd))
-    extension_share, info_finite, w, vecs, keep = (terms["extension_share"], terms["info_finite"], terms["w"],
-                                                   terms["vecs"], terms["keep"])
+    # the share the extension's own terms reproduce (its family's, as SHAPE_ONLY_SHARE reads it)
+    extension_share = within_family["extension_share"]
+    info_finite, w, vecs, keep = terms["info_finite"], terms["w"], terms["vecs"], terms["keep"]
     systematic, model_error_rms, bias = terms["systematic"], terms["model_error_rms"], terms["bias"]
     measurement_var, se_total, half_width = terms["measurement_var"], terms["se_total"], terms["half_width"]
     determined, with_thigh = terms["determined"], terms["with_thigh"]
