@@ -159,7 +159,7 @@ class CanopenDynamometer(Dynamometer):
             node.sdo.MAX_RETRIES = 1  # one request per call (the library's count includes it): repeats are ours
             self.node = node
             try:
-                node.nmt.wait_for_heartbeat(3 * c.DRIVE_HEARTBEAT_S + 0.2)
+                node.nmt.wait_for_heartbeat(max(3 * c.DRIVE_HEARTBEAT_S + 0.2, c.FIRST_HEARTBEAT_WAIT_S))
             except canopen.nmt.NmtError:
                 raise DeviceNotAvailableError(f"{self.name}: no heartbeat from node {self.node_id} on "
                                               f"{self.interface}:{self.channel}") from None
