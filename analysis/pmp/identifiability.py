@@ -326,6 +326,11 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     n_eff = float(sum(e.size / autocorrelation_time(e) for e in residual_parts))
     scale_c = sigma2 * n_samples / max(n_eff, 1.0)
     j_ext, j_meas = j_nuis[:, :len(ext_names)], j_nuis[:, len(ext_names):]
+    # the residual's systematic part (beyond the white noise): the model error this fit shows. The bias bound's RMS is
+    # that part (the error the parameters absorbed taken as no larger than the part they left), at least the
+    # physics' own error against OpenSim
+    systematic = math.sqrt(max(residual_rms**2 - noise**2, 0.0))
+    model_error_rms = max(MODEL_PHYSICS_ERROR_NM, systematic)
     widths = {p.shape[1] for p in shape_parts}
     shape_cols = np.vstack(shape_parts) if ext_names and len(widths) == 1 and widths != {0} else None
 
@@ -365,13 +370,9 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
         keep = w > 1.0 / rel_se_limit**2
         cov = (vecs[:, keep] / w[keep]) @ vecs[:, keep].T
         se = np.sqrt(np.maximum(np.diag(cov), 0.0))
-        # the residual's systematic part (beyond the white noise): the model error this fit shows
-        systematic = math.sqrt(max(residual_rms**2 - noise**2, 0.0))
         # the forward model's error biases the fit by at most |a_k|·|δ| for parameter k (a_k: row k of the
         # least-squares solution operator, restricted to the constrained directions; |δ| = RMS·√n): a bound added to
-        # the interval. Its RMS is the residual's systematic part (the error the parameters absorbed taken as no larger
-        # than the part they left), at least the physics' own error against OpenSim
-        model_error_rms = max(MODEL_PHYSICS_ERROR_NM, systematic)
+        # the interval, its RMS model_error_rms (below)
         solve_rows = (vecs[:, keep] / w[keep]) @ vecs[:, keep].T @ operator / scale_c
         bias = np.sqrt(np.sum(solve_rows**2, axis=1)) * model_error_rms * np.sqrt(n_samples)
         # a parameter is determined only if it has (almost) no part in the unconstrained directions
@@ -392,9 +393,8 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
         with_thigh = (1.96 * np.sqrt(se**2 + measurement_var - thigh_var * (1.0 - (measured_sd / prior_sd[-1]) ** 2))
                       + bias < rel_se_limit) & (free_part < 0.1)
         return {"extension_share": extension_share, "info_finite": info_finite, "w": w, "vecs": vecs, "keep": keep,
-                "se": se, "systematic": systematic, "model_error_rms": model_error_rms, "bias": bias,
-                "free_part": free_part, "measurement_var": measurement_var, "se_total": se_total,
-                "half_width": half_width, "determined": determined, "with_thigh": with_thigh}
+                "bias": bias, "measurement_var": measurement_var, "se_total": se_total, "half_width": half_width,
+                "determined": determined, "with_thigh": with_thigh}
 
     # the extension's shape uncertainty (Extension.shape_columns: free columns at zero) profiled out too; what the
     # extension's own family would have determined is kept, to say which parameters its shape leaves open
@@ -404,8 +404,8 @@ def identifiability(result: PmpResult, trials: list[PmpTrial], subject: Subject,
     # the share the extension's own terms reproduce (its family's, as SHAPE_ONLY_SHARE reads it)
     extension_share = within_family["extension_share"]
     info_finite, w, vecs, keep = terms["info_finite"], terms["w"], terms["vecs"], terms["keep"]
-    systematic, model_error_rms, bias = terms["systematic"], terms["model_error_rms"], terms["bias"]
-    measurement_var, se_total, half_width = terms["measurement_var"], terms["se_total"], terms["half_width"]
+    bias, measurement_var, se_total = terms["bias"], terms["measurement_var"], terms["se_total"]
+    half_width = terms["half_width"]
     determined, with_thigh = terms["determined"], terms["with_thigh"]
     shape_limited = [n for n, a, b in zip(names, within_family["determined"], determined, strict=True) if a and not b]
     misfit_ratio = residual_rms / max(noise, 1e-12)
