@@ -68,8 +68,10 @@ CANDIDATES = ["end_range_structures", "tonic_activation", "knee_tendon_complianc
 #: same estimator (8de9b00's short-circuit of a larger model's folds gives every decision the full folds would),
 #: to see how far the worst error and the named pair of 17000– were the seeds); 19000– the end-range structures'
 #: shape uncertainty in the intervals (Extension.shape_columns), developed on 17100–17203 and 18100–18109 (every miss
-#: of 17000– and 18000– was soleus' slack length beside the ankle's end-range structures)
-SEED_BASE = 19000
+#: of 17000– and 18000– was soleus' slack length beside the ankle's end-range structures); 20000– a larger model's
+#: folds started at the smaller one's collocation states as well as its parameters (PmpProblem.start_at), developed on
+#: 19307 and 18100–18309 (19307's triple started at the measured motion ended above its pair's objective)
+SEED_BASE = 20000
 SUBJECTS_PER_VARIANT = 10
 MASS_KG, FOOT_M = 75.0, 0.26
 #: the model's hip to knee joint centre distance, the thigh as the lab's tape reads it (within ±5 mm in the tape

@@ -52,7 +52,7 @@ from ..trial_csv import NOMINAL_RANGE_DEG
 from .geometry import MUSCLES
 from .model import PmpTrial, Subject, eliminate_tendons, muscles_moment, with_set_angles
 from .muscles import COMPLIANT, LegMuscles
-from .problem import PmpResult, build_problem, estimate, solve
+from .problem import CollocationState, PmpResult, build_problem, estimate, solve
 from .workers import mapped, workers
 
 FRICTION_SPEED_RAD_S = math.radians(1.0)
@@ -435,8 +435,8 @@ def fit_extended(trials: list[PmpTrial], subject: Subject, extension: Extension,
     8.1 % off against an interval of ±3.2 %, the generic start's 0.2 %).
     """
     problem = build_problem(trials, subject, leg=leg, intervals=intervals, extension=extension)
-    starts: list[FitStart] = [(dict(plain.parameters), extension.start_values(), dict(plain.set_angle_offsets_rad)),
-                              (dict(plain.generic), extension.start_values(), {})]
+    starts: list[FitStart] = [(dict(plain.parameters), extension.start_values(), dict(plain.set_angle_offsets_rad), None),
+                              (dict(plain.generic), extension.start_values(), {}, None)]
     if found is not None and len(found[1]) == len(extension.parameters):
         starts.append(found)
     fits = []
@@ -559,8 +559,8 @@ def _worker_init(context: dict[str, Any]) -> None:
 #: (None: never; else the reference's RMSE per fold, the ratio it must beat, and whether every fold must be better)
 WholeRule = tuple[dict[str, float], float, bool] | None
 #: where a fit starts (or what it found): the muscles' parameters, the extension's values in its order, the set-angle
-#: offsets by label (SI)
-FitStart = tuple[dict[str, float], tuple[float, ...], dict[str, float]]
+#: offsets by label (SI), and the collocation variables per trial (None: the measured motion)
+FitStart = tuple[dict[str, float], tuple[float, ...], dict[str, float], tuple[CollocationState, ...] | None]
 #: the starts of a job's fits: per fold, then for the fit on every trial, the starts to try (None in a list: the plain
 #: fit's parameters and the extension's own start; the fit of lowest objective is kept); None: that default start only
 JobStarts = tuple[list[list[FitStart | None]], list[FitStart | None]] | None
@@ -572,16 +572,17 @@ FitOutcome = tuple[list[tuple[float, dict[str, float], FitStart]],
 
 
 def found_start(fit: PmpResult, ext: Extension | None) -> FitStart:
-    """A fit's values as a start for a larger model's fit."""
+    """A fit's values (its parameters and its collocation variables) as a start for a larger model's fit."""
     values = tuple(float(fit.extension_parameters[n]) for n in ext.parameters) if ext is not None else ()
-    return dict(fit.parameters), values, dict(fit.set_angle_offsets_rad)
+    return dict(fit.parameters), values, dict(fit.set_angle_offsets_rad), fit.collocation_states or None
 
 
 def nested_start(found: FitStart, added: Extension) -> FitStart:
-    """The start of a model with ``added`` beside the one that found ``found``: where that model ended, the added
-    extension at its own start (≈ no effect), so the larger model starts at the smaller one's cost."""
-    params, values, offsets = found
-    return params, values + added.start_values(), offsets
+    """The start of a model with ``added`` beside the one that found ``found``: where that model ended (its parameters
+    and its states and controls, :meth:`analysis.pmp.problem.PmpProblem.start_at`), the added extension at its own
+    start (≈ no effect), so the larger model starts at the smaller one's cost."""
+    params, values, offsets, states = found
+    return params, values + added.start_values(), offsets, states
 
 
 def fold_ratio(errors: dict[str, float], reference: dict[str, float]) -> tuple[float, bool]:
@@ -630,7 +631,7 @@ def _key_fits(job: FitJob, context: dict[str, Any] | None = None) -> FitOutcome:
     def fit_from(start: FitStart | None, fitted: list[int], held: list[list[tuple[float, float]]] | None) -> PmpResult:
         if shared is not None:
             shared.leave_out(held)
-            shared.start_at(*(start if start is not None else (w["initial"], initial_ext, {})))
+            shared.start_at(*(start if start is not None else (w["initial"], initial_ext, {}, None)))
             return solve(shared)
         started = ext if ext is None or start is None else dataclasses.replace(ext, start=start[1])
         return estimate([trials[j] for j in fitted], subject, leg=leg, intervals=w["intervals"], extension=started,

@@ -60,6 +60,12 @@ PRIOR_WEIGHT = 0.01
 SET_ANGLE_PRIOR_WEIGHT = PRIOR_WEIGHT
 #: the fitted set-angle offsets stay within this many SDs of the entered angle
 SET_ANGLE_MAX_SD = 4.0
+#: where the calf tendons' normalised lengths start (a tendon just taut)
+TENDON_START = 1.01
+
+
+#: one trial's collocation variables (angle, velocity, scaled control, calf tendon lengths or None), as numpy arrays
+CollocationState = tuple[np.ndarray, np.ndarray, np.ndarray, "np.ndarray | None"]
 
 
 @dataclass(frozen=True)
@@ -89,6 +95,10 @@ class PmpResult:
     #: the priors' share of the minimised objective (``fun`` + ``regularisation`` is what IPOPT minimised): fits of
     #: one problem from different starts compare by that sum (:attr:`objective`)
     regularisation: float = 0.0
+    #: per trial, the collocation variables where the solve ended, in the problem's own scaling (the angle, rad; the
+    #: velocity, rad/s; the control over its scale; the calf tendons' normalised lengths, None without): a larger
+    #: model's fit of the same trials starts there (:meth:`PmpProblem.start_at`)
+    collocation_states: tuple[CollocationState, ...] = ()
 
     @property
     def objective(self) -> float:
@@ -133,10 +143,19 @@ class PmpProblem:
     point_calls: list[PointCall] = field(default_factory=list)
 
     def start_at(self, parameters: dict[str, float] | None = None, extension_values: Sequence[float] | None = None,
-                 set_angle_offsets_rad: dict[str, float] | None = None) -> None:
+                 set_angle_offsets_rad: dict[str, float] | None = None,
+                 states: Sequence[CollocationState] | None = None) -> None:
         """Start the next solve from these values (SI: a fit's ``parameters``, its extension's values in the
         extension's order, its set-angle offsets by label; each clipped into its bounds; what is not given keeps
-        its start). The states and controls start at the measured motion, as built."""
+        its start). The states and controls start at the measured motion, as built, or at ``states`` (a fit's
+        :attr:`PmpResult.collocation_states` on the same trials and intervals; a trial whose variables have other
+        shapes keeps the measured motion).
+
+        A larger model started from a smaller one's parameters but at the measured motion does not start at the
+        smaller one's optimum: an OpenSim-made subject's end-range structures, compliant knee tendons and a tone,
+        started so from the pair's fold fit (objective 0.578), converged at 0.982 with the activation at its bound and
+        predicted the left-out blocks 0.590 N·m off; from the pair's states as well, at 0.189 and 0.230 N·m (the pair
+        0.268)."""
         pset = self.parameters
         lower = pset.lower if self.lower is None else self.lower
         upper = pset.upper if self.upper is None else self.upper
@@ -152,6 +171,15 @@ class PmpProblem:
             offsets = np.array([set_angle_offsets_rad.get(lbl, 0.0) for lbl in self.set_angle_labels])
             self.opti.set_initial(self.set_angles, np.clip(offsets / self.set_angle_sd_rad, -SET_ANGLE_MAX_SD,
                                                            SET_ANGLE_MAX_SD))
+        given = states if states is not None and len(states) == len(self.point_calls) else [None] * len(self.point_calls)
+        for call, out, state in zip(self.point_calls, self.outputs, given, strict=True):
+            _t, _tt, _q, _v, _u, u_scale, qm, vm, um = out
+            measured = (qm[None, :], vm[None, :], (um / u_scale)[None, :], TENDON_START)
+            for variable, value, built in zip(_state_variables(call), state or measured, measured, strict=True):
+                if variable.numel() == 0:
+                    continue
+                ok = value is not None and variable.shape == np.shape(value)
+                self.opti.set_initial(variable, value if ok else built)
 
     def leave_out(self, held_out_s: list[list[tuple[float, float]]] | None) -> None:
         """Leave the torque in these windows (per trial, (start, end) s) out of the cost of the next solve;
@@ -350,7 +378,7 @@ def _add_trial(problem: PmpProblem, t: PmpTrial, subject: Subject, leg: LegMuscl
     lts = ca.vertcat(*calf) if calf else ca.SX.sym("lt", 0)
     lt: Any = opti.variable(len(calf), n_pts) if calf else None
     if calf:
-        opti.set_initial(lt, 1.01)
+        opti.set_initial(lt, TENDON_START)
         opti.subject_to(opti.bounded(0.99, lt, 1.2))
     set_in = [set_offset] if fitted_set_angle else []
     point = ca.Function("point", [qs, vs, us, ps, es, lts, *set_in, *local_in],
@@ -411,6 +439,21 @@ def _reanchor(problem: PmpProblem, sol: Any) -> float:
     return moved
 
 
+def _state_variables(call: PointCall) -> tuple[Any, Any, Any, Any]:
+    """A trial's collocation variables as its point function takes them (each ``n × points``): angle, velocity,
+    scaled control, calf tendon lengths (empty without)."""
+    return call.inputs[0], call.inputs[1], call.inputs[2], call.inputs[5]
+
+
+def _state_values(sol: Any, call: PointCall) -> CollocationState:
+    """A trial's collocation variables' values in a solution (each ``n × points``; no calf tendons: None)."""
+    def value(x: Any) -> np.ndarray:
+        return np.atleast_2d(np.asarray(sol.value(x), dtype=float))
+
+    q, v, u, lt = _state_variables(call)
+    return value(q), value(v), value(u), value(lt) if lt.numel() > 0 else None
+
+
 def solve(problem: PmpProblem, progress: Callable[[int, float], None] | None = None) -> PmpResult:
     """Solve a built problem with IPOPT; a fit that does not converge is a result with ``success=False``."""
     import time
@@ -448,6 +491,7 @@ def solve(problem: PmpProblem, progress: Callable[[int, float], None] | None = N
     if n_ext:
         values = np.atleast_1d(np.asarray(sol.value(e_scaled)).ravel()) * np.asarray(extension.typical, dtype=float)
         ext_est = dict(zip(extension.parameters, values.tolist()))
+    states = tuple(_state_values(sol, call) for call in problem.point_calls)
     set_offsets = {}
     if problem.set_angles is not None:
         values = np.atleast_1d(np.asarray(sol.value(problem.set_angles)).ravel()) * problem.set_angle_sd_rad
@@ -458,5 +502,5 @@ def solve(problem: PmpProblem, progress: Callable[[int, float], None] | None = N
                      success=success, status=FitStatus.CONVERGED if success else FitStatus.NOT_CONVERGED,
                      message=message, solver_status=str(stats.get("return_status", "unknown")), trials=res_trials,
                      extension_parameters=ext_est, set_angle_offsets_rad=set_offsets,
-                     regularisation=float(sol.value(reg)))
+                     regularisation=float(sol.value(reg)), collocation_states=states)
 

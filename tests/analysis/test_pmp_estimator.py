@@ -292,3 +292,28 @@ def test_a_held_parameter_stays_at_its_value_and_a_problem_restarts_from_a_fit()
     assert again.objective == pytest.approx(free.objective, rel=1e-6)
     for n, v in free.parameters.items():
         assert again.parameters[n] == pytest.approx(v, rel=1e-4)
+
+
+def test_a_problem_started_at_a_fits_states_begins_at_its_optimum_and_none_restores_the_measured_motion() -> None:
+    """A solved problem started again at its fit's parameters *and* collocation states ends where it was in fewer
+    iterations than from the parameters alone (the states at the measured motion); a start without states puts them
+    back at the measured motion (a later start is never a leftover of an earlier one); states of another shape (other
+    intervals) are ignored."""
+    from analysis.pmp.problem import build_problem, solve
+
+    _truth, trials, subject = simulated_subject(11, ("knee",))
+    problem = build_problem(trials, subject, intervals=12)
+    free = solve(problem)
+    assert len(free.collocation_states) == len(trials)
+    q, v, u, tendons = free.collocation_states[0]
+    assert q.shape == v.shape == u.shape == (1, 25) and (tendons is None or tendons.shape[1] == 25)
+    problem.start_at(free.parameters, None, free.set_angle_offsets_rad, free.collocation_states)
+    warm = solve(problem)
+    problem.start_at(free.parameters, None, free.set_angle_offsets_rad, None)
+    cold = solve(problem)
+    assert warm.objective == pytest.approx(free.objective, rel=1e-6) and cold.objective == pytest.approx(free.objective, rel=1e-6)
+    assert warm.nit < cold.nit
+    other = build_problem(trials, subject, intervals=8)
+    other.start_at(free.parameters, None, free.set_angle_offsets_rad, free.collocation_states)  # 25 points vs 17
+    again = solve(other)
+    assert again.success and again.collocation_states[0][0].shape == (1, 17)

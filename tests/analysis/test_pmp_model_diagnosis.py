@@ -204,10 +204,12 @@ def test_the_diagnosis_goes_on_past_a_pair_while_one_more_predicts_every_fold_be
 
     def fits(self: object, jobs: list) -> list:
         seen.update({key: starts for key, _folds, _rule, starts in jobs})
-        # what each fold's fit found: the muscles at 1, the extension's values numbered (checked as the next start)
+        # what each fold's fit found: the muscles at 1, the extension's values numbered, the collocation states named
+        # by the model and the fold (checked as the next start)
         return [([(error(key), {p: 0.0 for p in md.get_extension(key).parameters} if key else {},
-                   ({"m": 1.0}, tuple(float(i) for i in range(len(md.get_extension(key).parameters) if key else 0)), {}))
-                  for _ in folds], None)
+                   ({"m": 1.0}, tuple(float(i) for i in range(len(md.get_extension(key).parameters) if key else 0)), {},
+                    (f"states of {key} fold {k}",)))
+                  for k, _ in enumerate(folds)], None)
                 for key, folds, _rule, _starts in jobs]
 
     monkeypatch.setattr(md._FitPool, "fits", fits)
@@ -227,9 +229,11 @@ def test_the_diagnosis_goes_on_past_a_pair_while_one_more_predicts_every_fold_be
     assert seen["tonic_activation"] is None
     pair_starts, _whole = seen["tonic_activation+end_range_structures+knee_tendon_compliance"]
     tonic_and_end = len(md.get_extension("tonic_activation+end_range_structures").parameters)
-    for tries in pair_starts:
+    for k, tries in enumerate(pair_starts):
         assert tries[0] is None and tries[1][0] == {"m": 1.0}
         assert tries[1][1] == tuple(float(i) for i in range(tonic_and_end)) + EXTENSIONS["knee_tendon_compliance"].start
+        # ... and at the states and controls where the model so far ended on that fold, not at the measured motion
+        assert tries[1][3] == ("states of tonic_activation+end_range_structures fold " + str(k),)
 
 
 def test_models_better_on_every_fold_by_less_than_the_margin_stay_plausible() -> None:
@@ -291,7 +295,7 @@ def test_a_larger_model_stops_at_the_first_fold_it_does_not_predict_better(monke
 
     def solve(problem: object) -> object:
         solved.append(1)
-        return types.SimpleNamespace(success=True, objective=1.0, parameters={"m": 1.0},
+        return types.SimpleNamespace(success=True, objective=1.0, parameters={"m": 1.0}, collocation_states=(),
                                      extension_parameters=dict.fromkeys(EXTENSIONS["tonic_activation"].parameters, 0.01),
                                      set_angle_offsets_rad={})
 
