@@ -235,8 +235,9 @@ def fit_cause(prep: Prepared, cause: Cause, mask: np.ndarray | None = None, refi
     return CauseFit(cause.name, nl, coef, n_base, pred + prep.gravity, rss, int(use.sum()), cause.report(coef[n_base:], nl))
 
 
-def absorbed_by_baseline(prep: Prepared, cause: Cause, fit: CauseFit) -> float:
-    """R² of the cause's effect direction regressed on the baseline basis (1: the baseline can mimic it exactly).
+def absorbed_by_baseline(prep: Prepared, cause: Cause, fit: CauseFit, flexible: bool = False) -> float:
+    """R² of the cause's effect direction regressed on the baseline basis (1: the baseline can mimic it exactly);
+    ``flexible``: on the flexible baseline's basis (the parametric one plus the spline in angle).
 
     The direction is the extension's columns, or for a cause that changes the baseline's
     argument (delay, compliance), the derivative of the prediction with respect to its parameter.
@@ -252,7 +253,7 @@ def absorbed_by_baseline(prep: Prepared, cause: Cause, fit: CauseFit) -> float:
         j = (b2 - base) @ fit.coef[: base.shape[1]] / step
         if cause.offset is not None:
             j = j + (cause.offset(prep, nl) - cause.offset(prep, fit.nonlinear)) / step
-    b0 = baseline_columns(prep.trial.kind, prep.theta, prep.lo, prep.hi)[valid]
+    b0 = baseline_columns(prep.trial.kind, prep.theta, prep.lo, prep.hi, flexible)[valid]
     j = j[valid]
     if np.std(j) == 0:
         return 1.0

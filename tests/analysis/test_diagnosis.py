@@ -397,3 +397,21 @@ def test_a_damaged_trial_is_diagnosed_with_finite_intervals_or_refused(kind: str
         key = CAUSES[cause].magnitude_key
         if key:
             assert np.isfinite(d.parameters_se.get(key, np.nan)) and d.parameters_se[key] > 0, (cause, d.parameters_se)
+
+
+def test_a_compliance_the_flexible_baseline_absorbs_is_said_untestable_though_the_parametric_one_does_not() -> None:
+    # a spent seventeenth-family knee (a cuff whose give creeps): θ − c·τ(θ) is a curve in angle the spline follows
+    from analysis.diagnosis.causes import CAUSES, Prepared
+    from analysis.diagnosis.fitting import absorbed_by_baseline, fit_cause
+    from benchmarks.diagnosis_family_b import _trial
+    from benchmarks.family_q_truth import generate_q
+
+    trial = _trial(generate_q("knee", ("series_compliance",), 201))
+    prep = Prepared.of(trial.decimated(200.0))
+    cause = CAUSES["series_compliance"]
+    fit = fit_cause(prep, cause)
+    parametric, flexible = absorbed_by_baseline(prep, cause, fit), absorbed_by_baseline(prep, cause, fit, True)
+    assert parametric < 0.999 < flexible  # the flexible basis holds the parametric one, and more
+    d = diagnose(trial)
+    assert any("series_compliance cannot be told" in n for n in d.notes), d.notes
+    assert "series_compliance" not in {d.cause, *(a["cause"] for a in d.also)}
