@@ -1,4 +1,4 @@
-"""The fifth to eighteenth generator families' shared contract: each cause hidden with its truth in a recording with a
+"""The fifth to nineteenth generator families' shared contract: each cause hidden with its truth in a recording with a
 lab's damage, and a seed making the same trial. Each family's own physics is tested in its own module."""
 
 from __future__ import annotations
@@ -24,10 +24,11 @@ from benchmarks.family_o_truth import generate_o
 from benchmarks.family_p_truth import generate_p
 from benchmarks.family_q_truth import generate_q
 from benchmarks.family_r_truth import generate_r
+from benchmarks.family_s_truth import generate_s
 
 GENERATORS = {"e": generate_e, "f": generate_f, "g": generate_g, "h": generate_h, "i": generate_i, "j": generate_j,
               "k": generate_k, "l": generate_l, "m": generate_m, "n": generate_n,
-              "o": generate_o, "p": generate_p, "q": generate_q, "r": generate_r}
+              "o": generate_o, "p": generate_p, "q": generate_q, "r": generate_r, "s": generate_s}
 
 
 @pytest.mark.parametrize("family", list(GENERATORS))
