@@ -53,7 +53,8 @@ from .family_b_truth import EFFECTS, FamilyBTrial
 #: of 081911c, since development data) and the third to fifteenth (:mod:`benchmarks.diagnosis_family_c` …
 #: ``diagnosis_family_o``, each run once on its frozen engine), the sixteenth (``diagnosis_family_p``, run once on
 #: 4b85b78), the seventeenth (``diagnosis_family_q``, run once on 4b85b78) and the eighteenth (``diagnosis_family_r``,
-#: run once on 406c919) and the nineteenth (``diagnosis_family_s``, written before the next engine change, not yet run)
+#: run once on 406c919) and the nineteenth (``diagnosis_family_s``, written before the next engine change, run once
+#: on its frozen engine)
 FAMILIES = {"b": (family_b_truth.generate_b, family_b_truth.MAGNITUDE_KEY),
             "c": (family_c_truth.generate_c, family_c_truth.MAGNITUDE_KEY),
             "d": (family_d_truth.generate_d, family_d_truth.MAGNITUDE_KEY),

@@ -415,3 +415,19 @@ def test_a_compliance_the_flexible_baseline_absorbs_is_said_untestable_though_th
     d = diagnose(trial)
     assert any("series_compliance cannot be told" in n for n in d.notes), d.notes
     assert "series_compliance" not in {d.cause, *(a["cause"] for a in d.also)}
+
+
+def test_a_burst_is_searched_again_on_the_free_curve_where_the_passive_misfit_draws_it_elsewhere() -> None:
+    # a spent seventeenth-family knee: its passive end (Veronda–Westmann, steeper than the baseline's) leaves a
+    # misfit at the trial's start, where the parametric search put a 6 N·m burst; the sech² pulse is at 26.8 s
+    from benchmarks.diagnosis_family_b import _trial
+    from benchmarks.family_q_truth import generate_q
+
+    g = generate_q("knee", ("activation_burst",), 202)
+    d = diagnose(_trial(g))
+    assert d.cause == "activation_burst" and not d.also, d.text()
+    centre = d.parameters["burst_start_s"] + 0.5 * d.parameters["burst_duration_s"]
+    assert abs(centre - g.details["pulse_centre_s"]) < 0.5
+    truth = g.effects["activation_burst"]
+    assert truth is not None
+    assert abs(abs(d.parameters["burst_amplitude_Nm"]) - truth) <= 1.96 * d.parameters_se["burst_amplitude_Nm"]
