@@ -2,7 +2,8 @@
 
 The eighteenth family was run once (engine 406c919) and is development data since. The nineteenth was written
 (2026-11-29, twenty-eighth stop) before the next change to the diagnosis engine, to be run once on that change's frozen
-engine; its figures are then committed as measured, not tuned on. Same effects, seeds, scoring and keys as
+engine; its figures are then committed as measured, not tuned on. Run once on 62d202b (the same stop):
+``benchmarks/results/diagnosis_family_s.json``; development data since. Same effects, seeds, scoring and keys as
 :mod:`benchmarks.diagnosis_family_b` (``accuracy``, ``pair_accuracy``, ``false_alarm_rate``,
 ``magnitude_within_15pct``, ``interval_coverage``, ``seconds_per_trial``, the PySINDy peer's ``sindy_*`` twins), plus
 ``accuracy_or_untestable_said``.
