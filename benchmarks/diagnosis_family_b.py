@@ -126,6 +126,9 @@ def _one(job: tuple[str, tuple[str, ...], int, str]) -> dict[str, Any]:
     expected = set(effects) - (untestable & {"gravity_error"})
     out.update(named=sorted(named), right=named == expected, untestable=sorted(untestable),
                right_or_untestable_said=named == set(effects) - untestable, magnitudes=mags,
+               # the end of the range stiffens beyond the baseline, and the trial cannot tell a stop from a steeper
+               # passive curve: said, neither named
+               stop_or_steeper_said=any("stiffens beyond the baseline's passive curve" in n for n in d.notes),
                peer=sorted(peer.named), peer_1se=sorted(peer.named_1se),
                peer_right=set(peer.named) == set(effects) - (set(peer.untestable) & {"gravity_error"}),
                peer_1se_right=set(peer.named_1se) == set(effects) - (set(peer.untestable) & {"gravity_error"}),
@@ -182,6 +185,12 @@ def run(quick: bool = False, family: str = "b") -> dict[str, Any]:
            # a single effect the engine named, or said this trial cannot show (a series compliance or a weight
            # error the baseline absorbs): the honest answers, beside the strict count
            "accuracy_or_untestable_said": float(np.mean([right(r, "right_or_untestable_said") for r in singles])),
+           # single stops left unnamed with "a stop or a steeper passive curve: cannot tell" said, and clean trials
+           # where it is said (a stiffening beyond the baseline the engine declines to name)
+           "stop_or_steeper_said_on_stops": float(np.mean([bool(r.get("stop_or_steeper_said")) and "hard_stop" not in
+                                                           r.get("named", []) for r in singles
+                                                           if r["effects"] == ["hard_stop"]])),
+           "stop_or_steeper_said_on_clean": float(np.mean([bool(r.get("stop_or_steeper_said")) for r in clean])),
            "pair_accuracy": float(np.mean([right(r) for r in pairs])) if pairs else None,
            "false_alarm_rate": 1.0 - float(np.mean([right(r) for r in clean])), "false_alarm_rate_by_kind": fa_by_kind,
            "spurious_second_rate": float(np.mean(spurious)) if spurious else None,
@@ -212,6 +221,8 @@ def run(quick: bool = False, family: str = "b") -> dict[str, Any]:
         v = out[key]
         print(f"{label:<26}{(v if v is not None else float('nan')):>8.3f}{out['sindy_' + key] or float('nan'):>8.3f}"
               f"{out['sindy_1se_' + key] or float('nan'):>10.3f}")
+    print(f"\nstops left unnamed with 'a stop or a steeper passive curve' said {out['stop_or_steeper_said_on_stops']:.3f}"
+          f"; said on clean trials {out['stop_or_steeper_said_on_clean']:.3f}")
     print(f"\nspurious second cause beside a single effect {out['spurious_second_rate']}; magnitudes within 15 % "
           f"{out['magnitude_within_15pct']}; 95 % intervals holding the truth {out['interval_coverage']} "
           f"({len(mags)} magnitudes); {out['seconds_per_trial']:.2f} s per trial; {len(refused)} refused")
