@@ -162,17 +162,10 @@ def hunt_crossley_stop(deg: np.ndarray, vel_deg_s: np.ndarray, contact_deg: np.n
 def stroke_contacts(deg: np.ndarray, mean_deg: float, spread_deg: float, rng: np.random.Generator) -> np.ndarray:
     """The stop's contact angle (deg) at each sample: ``mean_deg`` moved by up to ±``spread_deg`` on each stroke (a
     stroke from one reversal of the angle to the next)."""
-    step = np.diff(deg, prepend=deg[0])
-    moving = np.sign(step)
-    moving[moving == 0] = 0
-    direction = np.where(moving != 0, moving, np.nan)
-    filled = np.copy(direction)
-    last = 1.0
-    for i in range(filled.size):  # carry the last direction through holds
-        if np.isnan(filled[i]):
-            filled[i] = last
-        else:
-            last = filled[i]
+    direction = np.sign(np.diff(deg, prepend=deg[0]))
+    # carry the last direction through holds (increasing before the first move)
+    last_move = np.maximum.accumulate(np.where(direction != 0, np.arange(direction.size), -1))
+    filled = np.where(last_move >= 0, direction[np.maximum(last_move, 0)], 1.0)
     stroke = np.concatenate([[0], np.cumsum(np.diff(filled) != 0)])
     offsets = rng.uniform(-spread_deg, spread_deg, int(stroke[-1]) + 1)
     return mean_deg + offsets[stroke]
