@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+from scipy.interpolate import BSpline
 from scipy.signal import lfilter
 
 from ..errors import InputError
@@ -97,6 +98,11 @@ STRIBECK_SPEEDS_RAD_S = np.deg2rad(np.geomspace(0.5, 8.0, 5))
 #: a smooth drift's Legendre degree in time: a cubic follows a settling (exponential or logarithmic) offset and
 #: up to one slow swing over the trial, and stays slower than any sweep of several cycles
 DRIFT_SMOOTH_DEGREE = 3
+#: a wandering drift's resolution: a cubic spline in time with one knot per this many movement cycles (the trial's
+#: own period between turns the same way). An offset that changes no faster than that is a function of time the angle
+#: cannot explain: every angle is revisited within a cycle. A uniform cubic B-spline's response to a period equal to
+#: its knot spacing is zero, so the spline does not follow structure that repeats with every cycle (a curve in angle)
+DRIFT_WANDER_CYCLES_PER_KNOT = 1.0
 #: an activation burst's physiological duration (s): a stretch reflex or a voluntary twitch lasts
 #: 0.15–2 s; longer "bursts" would absorb drift or a baseline mismatch
 BURST_DURATION_S = (0.15, 2.0)
@@ -288,6 +294,9 @@ class Cause:
     #: (a Stribeck friction's static excess and decay speed, a smooth drift's higher terms); None: the usual
     n_columns: int | None = None
     n_nonlinear: int | None = None
+    #: held-out blocks of this length (s) dealt round-robin to the folds (None: ``folds`` contiguous blocks): a
+    #: function of time resolved at a movement cycle is predicted from the cycles beside a left-out one
+    heldout_blocks_s: float | None = None
 
 
 def _plain(prep: Prepared, extra: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -559,6 +568,55 @@ def _time_legendre(p: Prepared, degree: int) -> np.ndarray:
     return np.polynomial.legendre.legvander(u, degree)[:, 1:]
 
 
+def movement_period_s(prep: Prepared) -> float | None:
+    """The trial's movement cycle (s): the median time between turns the same way (maxima to maxima, minima to
+    minima) of the whole trial's angle, a turn counted once the angle has come back by a quarter of its range (a
+    tremor or a hold's jitter is not a turn); None with fewer than two such intervals."""
+    t = prep.t if prep.t_whole is None else prep.t_whole
+    theta = prep.theta if prep.theta_whole is None else prep.theta_whole
+    ok = np.isfinite(theta) & np.isfinite(t)
+    t, theta = t[ok], theta[ok]
+    if theta.size < 10:
+        return None
+    lo, hi = np.percentile(theta, [1.0, 99.0])
+    back = 0.25 * float(hi - lo)
+    if back <= 0.0:
+        return None
+    maxima: list[float] = []
+    minima: list[float] = []
+    rising = True
+    i_ext = 0
+    for i in range(1, theta.size):
+        if rising:
+            if theta[i] > theta[i_ext]:
+                i_ext = i
+            elif theta[i_ext] - theta[i] > back:
+                maxima.append(float(t[i_ext]))
+                rising, i_ext = False, i
+        else:
+            if theta[i] < theta[i_ext]:
+                i_ext = i
+            elif theta[i] - theta[i_ext] > back:
+                minima.append(float(t[i_ext]))
+                rising, i_ext = True, i
+    gaps = np.concatenate([np.diff(maxima), np.diff(minima)])
+    return float(np.median(gaps)) if gaps.size >= 2 else None
+
+
+def _time_spline(p: Prepared, interior_knots: int) -> np.ndarray:
+    """A clamped cubic B-spline basis in the trial's time with ``interior_knots`` uniform interior knots, less its
+    constant and linear trend (those are the baseline's offset and the drift's rate): ``interior_knots`` + 2
+    orthonormal columns."""
+    span = max(float(p.t[-1] - p.t[0]), 1e-9)
+    u = (p.t - p.t[0]) / span
+    knots = np.concatenate([np.zeros(4), np.linspace(0.0, 1.0, interior_knots + 2)[1:-1], np.ones(4)])
+    basis = BSpline.design_matrix(np.clip(u, 0.0, 1.0), knots, 3).toarray()
+    trend, _ = np.linalg.qr(np.column_stack([np.ones_like(u), u - u.mean()]))
+    rest = basis - trend @ (trend.T @ basis)
+    left, sv, _ = np.linalg.svd(rest, full_matrices=False)
+    return left[:, : min(interior_knots + 2, int(np.sum(sv > 1e-9 * sv[0])))] * math.sqrt(p.t.size)
+
+
 def drift_cause(law: str) -> Cause:
     """The sensor drift cause: ``"linear"`` (a constant rate) or ``"smooth"`` (:data:`DRIFT_SMOOTH_DEGREE` Legendre
     polynomials in time: a settling or wandering offset slower than the movement). ``drift_Nm_per_s`` is the
@@ -579,6 +637,33 @@ def drift_cause(law: str) -> Cause:
                  n_columns=degree)
 
 
+def wandering_drift_cause(prep: Prepared) -> Cause | None:
+    """The sensor drift as an offset that steps, cycles or walks at any pace slower than the movement: a cubic spline
+    in time with one knot per :data:`DRIFT_WANDER_CYCLES_PER_KNOT` movement cycles of ``prep``'s trial
+    (:func:`movement_period_s`). ``drift_Nm_per_s`` is its linear trend, ``drift_Bk_Nm`` the spline's other terms
+    (N·m RMS over the trial). None: the trial has no clear cycle, or too few for held-out blocks between fitted ones
+    (at least three knot intervals: :func:`evidence.cycle_folds` never leaves out the first and the last)."""
+    period = movement_period_s(prep)
+    if period is None:
+        return None
+    span = float(prep.t[-1] - prep.t[0])
+    interior = int(round(span / (DRIFT_WANDER_CYCLES_PER_KNOT * period))) - 1
+    if interior < 2:
+        return None
+
+    def report(c: np.ndarray, nl: tuple[float, ...]) -> dict[str, float]:
+        return {"drift_Nm_per_s": float(c[0]), **{f"drift_B{k + 2}_Nm": float(v) for k, v in enumerate(c[1:])}}
+
+    def columns(p: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        # made once per trial: the spline's basis takes an SVD of the whole trial, and every fit revisits it
+        return _cached(p, ("wandering drift", interior),
+                       lambda: _plain(p, np.column_stack([p.t - p.t.mean(), _time_spline(p, interior)])))
+
+    return Cause("sensor_drift", "torque offset drifting with time (wandering slower than the movement)",
+                 ("afo", "knee", "ankle", "replica"), columns, report, "drift_Nm_per_s", hysteretic=True,
+                 n_columns=interior + 3, heldout_blocks_s=span / (interior + 1))
+
+
 def burst_cause(shape: str) -> Cause:
     """The activation burst cause with the shape ``shape`` of :data:`BURST_SHAPES`."""
     return Cause("activation_burst", "transient active torque that passive tissue cannot produce", ("knee", "ankle"),
@@ -595,17 +680,21 @@ SHAPE_VARIANTS: dict[str, dict[str, Callable[[], Cause]]] = {
     # a channel's lag: a transport delay, or a filter's (same parameter count; magnitude the group delay)
     "time_delay": {law: functools.partial(delay_cause, law) for law in ("pure", "first-order lag")},
 }
-#: laws of one cause with different numbers of parameters: the search uses the one with the lowest BIC on the
-#: trial (evidence.likeliest_law); the first is the simplest
-LAW_VARIANTS: dict[str, dict[str, Callable[[], Cause]]] = {
-    "coulomb_friction": {**{law: functools.partial(friction_cause, law) for law in (*FRICTION_LAWS, "dahl")},
-                         **{f"{law} with Stribeck": functools.partial(friction_cause, law, True)
+def _any_trial(make: Callable[[], Cause]) -> Callable[[Prepared], Cause | None]:
+    return lambda prep: make()
+
+
+#: laws of one cause with different numbers of parameters, each made for a trial (None: not available in it): the
+#: search uses the one with the lowest BIC on the trial (evidence.likeliest_law); the first is the simplest
+LAW_VARIANTS: dict[str, dict[str, Callable[[Prepared], Cause | None]]] = {
+    "coulomb_friction": {**{law: _any_trial(functools.partial(friction_cause, law)) for law in (*FRICTION_LAWS, "dahl")},
+                         **{f"{law} with Stribeck": _any_trial(functools.partial(friction_cause, law, True))
                             for law in (*FRICTION_LAWS, "dahl")}},
-    "viscous_damping": {"viscous": functools.partial(damping_cause, "viscous"),
-                        "viscous with relaxation": functools.partial(damping_cause, "viscous with relaxation"),
-                        "viscous with saturation": functools.partial(damping_cause, "viscous with saturation")},
-    "sensor_drift": {"linear": functools.partial(drift_cause, "linear"),
-                     "smooth": functools.partial(drift_cause, "smooth")},
+    "viscous_damping": {law: _any_trial(functools.partial(damping_cause, law))
+                        for law in ("viscous", "viscous with relaxation", "viscous with saturation")},
+    "sensor_drift": {"linear": _any_trial(functools.partial(drift_cause, "linear")),
+                     "smooth": _any_trial(functools.partial(drift_cause, "smooth")),
+                     "wandering": wandering_drift_cause},
 }
 
 #: laws that bend toward another cause's shape: (cause, law) → that cause. A damping saturating within the trial's

@@ -72,12 +72,13 @@ from .evidence import (
     average_variants,
     bic,
     effective_n,
+    heldout_block_s,
+    heldout_folds,
     heldout_residuals,
     likeliest_law,
     magnitude_variants,
     parameter_se,
     systematic_regions,
-    time_blocks,
 )
 from .fitting import CauseFit, absorbed_by_baseline, fit_cause
 from .policy import (
@@ -154,20 +155,33 @@ class _Search:
             self.causes[key] = cause
         return self.causes[key], self.fits[key]
 
-    def heldout(self, names: tuple[str, ...], interior: bool = False) -> float:
-        """Held-out RMSE (N·m) of the model ``names`` (:meth:`heldout_residuals`); ``interior``: over the blocks
-        between the first and the last only (where a function of time is interpolated, not extrapolated)."""
-        e = self.heldout_residuals(names)
-        inner = time_blocks(e.size, self.folds)[1:-1] if interior else []
-        if inner:  # with fewer than three folds every block is an end block: all are used
-            e = e[np.concatenate(inner)]
+    def folds_of(self, names: tuple[str, ...]) -> tuple[str, list[np.ndarray]]:
+        """The held-out folds of the model ``names`` and their label: ``folds`` contiguous time blocks, or the
+        round-robin blocks its drift asks for (a wandering drift: :func:`evidence.heldout_folds`)."""
+        cause, _ = self.fit(names)
+        block_s = heldout_block_s(cause)
+        return (f"blocks of {block_s:.6g} s" if block_s else "contiguous", heldout_folds(self.prep, cause, self.folds))
+
+    def heldout(self, names: tuple[str, ...], interior: bool = False, folds_of: tuple[str, ...] | None = None) -> float:
+        """Held-out RMSE (N·m) of the model ``names`` (:meth:`heldout_residuals`) on the folds of the model
+        ``folds_of`` (default its own); ``interior``: without the trial's first and last blocks (where a function of
+        time is interpolated, not extrapolated)."""
+        label, blocks = self.folds_of(folds_of or names)
+        e = self.heldout_residuals(names, folds_of=folds_of)
+        if interior and label == "contiguous":  # round-robin folds never leave out the trial's ends
+            inner = blocks[1:-1]
+            if inner:  # with fewer than three folds every block is an end block: all are used
+                e = e[np.concatenate(inner)]
         e = e[np.isfinite(e)]
         return float(np.sqrt(np.mean(e**2))) if e.size else float("nan")
 
-    def heldout_residuals(self, names: tuple[str, ...], flexible: bool = False) -> np.ndarray:
-        """Held-out residuals (N·m) of the model ``names``; ``flexible``: on the flexible baseline, with the
-        nonlinear parameters of the plain baseline's fit."""
-        key = "+".join(names) + (" on the flexible baseline" if flexible else "")
+    def heldout_residuals(self, names: tuple[str, ...], flexible: bool = False,
+                          folds_of: tuple[str, ...] | None = None) -> np.ndarray:
+        """Held-out residuals (N·m) of the model ``names`` on the folds of the model ``folds_of`` (default its own,
+        :meth:`folds_of`); ``flexible``: on the flexible baseline, with the nonlinear parameters of the plain
+        baseline's fit."""
+        label, blocks = self.folds_of(folds_of or names)
+        key = "+".join(names) + (" on the flexible baseline" if flexible else "") + f" ({label})"
         if key not in self._ho:
             cause, f = self.fit(names)
             # the nonlinear parameters (a stop's angle, a delay, a burst's timing, a friction width) are
@@ -176,7 +190,7 @@ class _Search:
             # blocks gave the same verdicts (singles 0.947, pairs 0.677, false alarms 0) at 3.1× the
             # time; re-searching singles only (not pairs) favoured pairs and lost 0.026 of the singles
             self._ho[key] = heldout_residuals(self.flex if flexible else self.prep, cause, self.folds,
-                                              None if len(names) == 1 and not f.nonlinear else f.nonlinear)
+                                              None if len(names) == 1 and not f.nonlinear else f.nonlinear, blocks)
         return self._ho[key]
 
     def flexible(self, names: tuple[str, ...], searched: bool = False) -> CauseFit:
@@ -199,8 +213,10 @@ class _Search:
         # a drift is a function of time: a left-out first or last block asks a cubic in time to extrapolate,
         # which it cannot (a settling or wandering offset read 1.26× worse held out at ΔBIC −38); it is judged
         # on the blocks it interpolates, the reference on the same blocks
+        # (a wandering drift is judged on blocks of its own resolution dealt round-robin, each predicted from the ones
+        # beside it: a contiguous fifth of the trial holds knots no training sample reaches; the reference alike)
         interior = added.name == "sensor_drift"
-        ref_ho = self.heldout(ref, interior)
+        ref_ho = self.heldout(ref, interior, folds_of=model)
         ho = self.heldout(model, interior) if not added.transient else float("nan")
         gain = n_eff * math.log(ref_ho ** 2 / ho ** 2) if math.isfinite(ho) and ho > 0 else float("nan")
         d_flex = float("nan")
@@ -294,7 +310,8 @@ class _Search:
             refined = minimize_scalar(mse, bounds=(logs[max(i - 1, 0)], logs[min(i + 1, logs.size - 1)]),
                                       method="bounded", options={"xatol": 0.01})
             best, prep = fitted(math.exp(float(refined.x) if refined.fun < grid[i] else float(logs[i])))
-            self._smooth[key] = (best, heldout_residuals(prep, rival, self.folds, start or None))
+            self._smooth[key] = (best, heldout_residuals(prep, rival, self.folds, start or None,
+                                                         self.folds_of(model)[1]))
         return self._smooth[key]
 
     def stop_beats_smooth_rival(self, model: tuple[str, ...]) -> bool:
@@ -325,7 +342,8 @@ class _Search:
         # Measured and left out (7f36278): asking the flexible baseline *with* the stop to predict better than without
         # it too. False stops on clean development knee and ankle trials 15 → 12 of 180, but the development
         # generator's knee stops 0.50 → 0.33 and stop pairs 4 fewer of 93: the spline follows part of a true kink
-        flex_resid = self.heldout_residuals(tuple(n for n in model if n != "hard_stop") or ("none",), flexible=True)
+        flex_resid = self.heldout_residuals(tuple(n for n in model if n != "hard_stop") or ("none",), flexible=True,
+                                            folds_of=model)
         ok = np.isfinite(resid) & np.isfinite(flex_resid)
         return bool(ok.sum() >= 10 and float(np.mean(resid[ok] ** 2)) < float(np.mean(flex_resid[ok] ** 2)))
 
