@@ -26,10 +26,12 @@ from benchmarks.family_q_truth import generate_q
 from benchmarks.family_r_truth import generate_r
 from benchmarks.family_s_truth import generate_s
 from benchmarks.family_t_truth import generate_t
+from benchmarks.family_u_truth import generate_u
 
 GENERATORS = {"e": generate_e, "f": generate_f, "g": generate_g, "h": generate_h, "i": generate_i, "j": generate_j,
               "k": generate_k, "l": generate_l, "m": generate_m, "n": generate_n,
-              "o": generate_o, "p": generate_p, "q": generate_q, "r": generate_r, "s": generate_s, "t": generate_t}
+              "o": generate_o, "p": generate_p, "q": generate_q, "r": generate_r, "s": generate_s, "t": generate_t,
+              "u": generate_u}
 
 
 @pytest.mark.parametrize("family", list(GENERATORS))
