@@ -680,7 +680,10 @@ SHAPE_VARIANTS: dict[str, dict[str, Callable[[], Cause]]] = {
     # a channel's lag: a transport delay, or a filter's (same parameter count; magnitude the group delay)
     "time_delay": {law: functools.partial(delay_cause, law) for law in ("pure", "first-order lag")},
 }
+
+
 def _any_trial(make: Callable[[], Cause]) -> Callable[[Prepared], Cause | None]:
+    """A law made the same for every trial, as :data:`LAW_VARIANTS` takes it (a function of the trial)."""
     return lambda prep: make()
 
 
