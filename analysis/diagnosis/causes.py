@@ -101,7 +101,9 @@ DRIFT_SMOOTH_DEGREE = 3
 #: a wandering drift's resolution: a cubic spline in time with one knot per this many movement cycles (the trial's
 #: own period between turns the same way). An offset that changes no faster than that is a function of time the angle
 #: cannot explain: every angle is revisited within a cycle. A uniform cubic B-spline's response to a period equal to
-#: its knot spacing is zero, so the spline does not follow structure that repeats with every cycle (a curve in angle)
+#: its knot spacing is zero in the continuous limit, so the spline barely follows structure repeated every cycle (a
+#: curve in angle): on a 5-cycle sweep its columns explain 11 % of a sinusoid of the cycle's period and 15 % of the
+#: angle itself, 99.99 % of one of four cycles (tests/analysis/test_diagnosis_wandering_drift.py bounds them)
 DRIFT_WANDER_CYCLES_PER_KNOT = 1.0
 #: an activation burst's physiological duration (s): a stretch reflex or a voluntary twitch lasts
 #: 0.15–2 s; longer "bursts" would absorb drift or a baseline mismatch
@@ -650,18 +652,21 @@ def wandering_drift_cause(prep: Prepared) -> Cause | None:
     interior = int(round(span / (DRIFT_WANDER_CYCLES_PER_KNOT * period))) - 1
     if interior < 2:
         return None
+    # made once for the trial (an SVD of the whole trial, which every fit revisits); its column count is the cause's
+    # (fewer than interior + 2 where a gap in the samples leaves a knot interval empty)
+    drift = np.column_stack([prep.t - prep.t.mean(), _time_spline(prep, interior)])
 
     def report(c: np.ndarray, nl: tuple[float, ...]) -> dict[str, float]:
         return {"drift_Nm_per_s": float(c[0]), **{f"drift_B{k + 2}_Nm": float(v) for k, v in enumerate(c[1:])}}
 
     def columns(p: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        # made once per trial: the spline's basis takes an SVD of the whole trial, and every fit revisits it
-        return _cached(p, ("wandering drift", interior),
-                       lambda: _plain(p, np.column_stack([p.t - p.t.mean(), _time_spline(p, interior)])))
+        if p.t.size == drift.shape[0]:  # every Prepared of one trial shares its samples
+            return _plain(p, drift)
+        return _plain(p, np.column_stack([p.t - p.t.mean(), _time_spline(p, interior)]))
 
     return Cause("sensor_drift", "torque offset drifting with time (wandering slower than the movement)",
                  ("afo", "knee", "ankle", "replica"), columns, report, "drift_Nm_per_s", hysteretic=True,
-                 n_columns=interior + 3, heldout_blocks_s=span / (interior + 1))
+                 n_columns=drift.shape[1], heldout_blocks_s=span / (interior + 1))
 
 
 def burst_cause(shape: str) -> Cause:

@@ -138,6 +138,7 @@ class _Search:
         self._ho: dict[str, np.ndarray] = {}
         self._flex: dict[str, CauseFit] = {}
         self._smooth: dict[str, tuple[CauseFit, np.ndarray]] = {}
+        self._folds: dict[float | None, tuple[str, list[np.ndarray]]] = {}
         #: models whose stop passed every test against its reference but not against a smooth stiffening
         self.stops_not_told_from_smooth: set[str] = set()
 
@@ -160,14 +161,18 @@ class _Search:
         round-robin blocks its drift asks for (a wandering drift: :func:`evidence.heldout_folds`)."""
         cause, _ = self.fit(names)
         block_s = heldout_block_s(cause)
-        return (f"blocks of {block_s:.6g} s" if block_s else "contiguous", heldout_folds(self.prep, cause, self.folds))
+        if block_s not in self._folds:  # made once per block length: every held-out comparison asks again
+            self._folds[block_s] = (f"blocks of {block_s:.6g} s" if block_s else "contiguous",
+                                    heldout_folds(self.prep, cause, self.folds))
+        return self._folds[block_s]
 
-    def heldout(self, names: tuple[str, ...], interior: bool = False, folds_of: tuple[str, ...] | None = None) -> float:
+    def heldout(self, names: tuple[str, ...], interior: bool = False, folds_from: tuple[str, ...] | None = None
+                ) -> float:
         """Held-out RMSE (N·m) of the model ``names`` (:meth:`heldout_residuals`) on the folds of the model
-        ``folds_of`` (default its own); ``interior``: without the trial's first and last blocks (where a function of
+        ``folds_from`` (default its own); ``interior``: without the trial's first and last blocks (where a function of
         time is interpolated, not extrapolated)."""
-        label, blocks = self.folds_of(folds_of or names)
-        e = self.heldout_residuals(names, folds_of=folds_of)
+        label, blocks = self.folds_of(folds_from or names)
+        e = self.heldout_residuals(names, folds_from=folds_from)
         if interior and label == "contiguous":  # round-robin folds never leave out the trial's ends
             inner = blocks[1:-1]
             if inner:  # with fewer than three folds every block is an end block: all are used
@@ -176,11 +181,11 @@ class _Search:
         return float(np.sqrt(np.mean(e**2))) if e.size else float("nan")
 
     def heldout_residuals(self, names: tuple[str, ...], flexible: bool = False,
-                          folds_of: tuple[str, ...] | None = None) -> np.ndarray:
-        """Held-out residuals (N·m) of the model ``names`` on the folds of the model ``folds_of`` (default its own,
+                          folds_from: tuple[str, ...] | None = None) -> np.ndarray:
+        """Held-out residuals (N·m) of the model ``names`` on the folds of the model ``folds_from`` (default its own,
         :meth:`folds_of`); ``flexible``: on the flexible baseline, with the nonlinear parameters of the plain
         baseline's fit."""
-        label, blocks = self.folds_of(folds_of or names)
+        label, blocks = self.folds_of(folds_from or names)
         key = "+".join(names) + (" on the flexible baseline" if flexible else "") + f" ({label})"
         if key not in self._ho:
             cause, f = self.fit(names)
@@ -216,7 +221,7 @@ class _Search:
         # (a wandering drift is judged on blocks of its own resolution dealt round-robin, each predicted from the ones
         # beside it: a contiguous fifth of the trial holds knots no training sample reaches; the reference alike)
         interior = added.name == "sensor_drift"
-        ref_ho = self.heldout(ref, interior, folds_of=model)
+        ref_ho = self.heldout(ref, interior, folds_from=model)
         ho = self.heldout(model, interior) if not added.transient else float("nan")
         gain = n_eff * math.log(ref_ho ** 2 / ho ** 2) if math.isfinite(ho) and ho > 0 else float("nan")
         d_flex = float("nan")
@@ -343,7 +348,7 @@ class _Search:
         # it too. False stops on clean development knee and ankle trials 15 → 12 of 180, but the development
         # generator's knee stops 0.50 → 0.33 and stop pairs 4 fewer of 93: the spline follows part of a true kink
         flex_resid = self.heldout_residuals(tuple(n for n in model if n != "hard_stop") or ("none",), flexible=True,
-                                            folds_of=model)
+                                            folds_from=model)
         ok = np.isfinite(resid) & np.isfinite(flex_resid)
         return bool(ok.sum() >= 10 and float(np.mean(resid[ok] ** 2)) < float(np.mean(flex_resid[ok] ** 2)))
 
