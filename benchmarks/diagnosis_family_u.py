@@ -2,8 +2,9 @@
 engine.
 
 The twentieth family was run once (engine 9555647) and is development data since. The twenty-first was written
-(2026-11-29, twenty-ninth stop) before the next change to the diagnosis engine, to be run once on that change's frozen
-engine; its figures are then committed as measured, not tuned on. Same effects, seeds, scoring and keys as
+(2026-11-29, twenty-ninth stop) before the next change to the diagnosis engine and run once on that change's frozen
+engine (f319385, a lone burst also named by a scan statistic); its figures are committed as measured, not tuned on,
+and it is development data since. Same effects, seeds, scoring and keys as
 :mod:`benchmarks.diagnosis_family_b` (``accuracy``, ``pair_accuracy``, ``false_alarm_rate``,
 ``magnitude_within_15pct``, ``interval_coverage``, ``seconds_per_trial``, the PySINDy peer's ``sindy_*`` twins), plus
 ``accuracy_or_untestable_said``.

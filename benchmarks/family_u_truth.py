@@ -1,5 +1,5 @@
 """A twenty-first generator family for the diagnosis, written after the twentieth's run and before the next engine
-change, to be run once on that change's frozen engine.
+change, run once on that change's frozen engine (f319385; benchmarks/results/diagnosis_family_u.json).
 
 The second to twentieth families (:mod:`benchmarks.family_b_truth` … ``family_t_truth``) became development data
 once run. This one draws every cause from a law the engine's library does not hold (checked against
