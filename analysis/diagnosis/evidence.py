@@ -355,9 +355,9 @@ class BurstScan:
     """A half-sine of one duration slid over a residual (:func:`burst_scan`)."""
 
     peak_start_s: float     #: start (s) of the best-scoring position
-    peak_p: float           #: familywise p-value of that score over :attr:`positions`
+    peak_p: float           #: familywise p-value of that score over the trial's starts and the durations searched
     elsewhere_p: float      #: familywise p-value of the best score at a start at least one duration from the peak
-    positions: float        #: independent positions the familywise level counts (starts × durations)
+    positions: float        #: the span in durations times the durations searched (the correction's size, for a report)
 
     def unique(self, alpha: float) -> bool:
         """The peak is significant at familywise level ``alpha`` and nothing clear of it is."""
