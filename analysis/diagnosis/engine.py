@@ -80,6 +80,7 @@ from .evidence import (
     likeliest_law,
     magnitude_variants,
     parameter_se,
+    recurs_at_its_angle,
     systematic_regions,
 )
 from .fitting import CauseFit, absorbed_by_baseline, fit_cause
@@ -252,8 +253,8 @@ class _Search:
         # test then weighs on the free curve is not the one in the data. Development, spent families 13–18 (knee and
         # ankle): single bursts 43 → 57 of 96 named, clean trials 184 → 183 of 240, pairs with a burst 24 → 24 of 84
         # Or when it stands out of the scan statistic on the flexible residual (burst_stands_out: judged against what
-        # the same filter finds elsewhere in the trial, at a familywise level; no peak-to-noise floor, the level is the
-        # guard). Development figures: docs/validation.md, thirtieth stop
+        # the same filter finds elsewhere in the trial, at a familywise level, and not seen again at its angles; no
+        # peak-to-noise floor, the level is the guard). Development figures: docs/validation.md, thirtieth stop
         of_time, d_own = False, float("nan")
         if added.name == "activation_burst" and ref == ("none",):
             flex_model = self.flexible(model, searched=True)
@@ -297,7 +298,9 @@ class _Search:
     def burst_stands_out(self, flex_burst: CauseFit) -> bool:
         """Whether the burst of ``flex_burst`` (searched on the flexible baseline) is the one significant event of
         the scan statistic on the flexible baseline's residual (:func:`evidence.burst_scan` at its duration, familywise
-        level :data:`BURST_SCAN_ALPHA`), and the scan's peak is this burst (its start within half a duration).
+        level :data:`BURST_SCAN_ALPHA`), the scan's peak is this burst (its start within half a duration), and it is not
+        seen again where the joint passes the same angles the same way (:func:`evidence.recurs_at_its_angle`: a stop's
+        contact crossed on every stroke leaves a blip each time, of which one may clear the level alone).
 
         A burst is judged against the noise the same filter meets elsewhere in the trial, not against the whole
         trial's criterion: slow structure anywhere in a long trial shrinks its n_eff, and a burst of 2.5–7.4× the
@@ -311,7 +314,10 @@ class _Search:
             return False
         residual = self.flex.torque - self.flexible(("none",)).prediction
         scan = burst_scan(self.flex.t, residual, duration)
-        return scan.unique(BURST_SCAN_ALPHA) and abs(scan.peak_start_s - flex_burst.params["burst_start_s"]) <= 0.5 * duration
+        start = flex_burst.params["burst_start_s"]
+        return (scan.unique(BURST_SCAN_ALPHA) and abs(scan.peak_start_s - start) <= 0.5 * duration
+                and not recurs_at_its_angle(self.flex.t, self.flex.theta, self.flex.omega, residual, start, duration,
+                                            scan.score_scale))
 
     def smooth_rival(self, model: tuple[str, ...]) -> tuple[CauseFit, np.ndarray]:
         """``model`` with its stop replaced by a smooth stiffening at the stop's end of the range (one more

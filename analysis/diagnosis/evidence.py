@@ -358,6 +358,7 @@ class BurstScan:
     peak_p: float           #: familywise p-value of that score over the trial's starts and the durations searched
     elsewhere_p: float      #: familywise p-value of the best score at a start at least one duration from the peak
     positions: float        #: the span in durations times the durations searched (the correction's size, for a report)
+    score_scale: float = math.nan  #: σ²_g (N·m²): a burst score's scale over noise, the median score / the χ²₁ median
 
     def unique(self, alpha: float) -> bool:
         """The peak is significant at familywise level ``alpha`` and nothing clear of it is."""
@@ -419,7 +420,42 @@ def burst_scan(t: np.ndarray, residual: np.ndarray, duration_s: float) -> BurstS
     i = int(np.nanargmax(score))
     clear = usable & (np.abs(starts - starts[i]) >= duration_s)
     elsewhere = float(np.max(score[clear])) / scale if clear.any() else 0.0
-    return BurstScan(float(starts[i]), familywise(float(score[i]) / scale), familywise(elsewhere), positions)
+    return BurstScan(float(starts[i]), familywise(float(score[i]) / scale), familywise(elsewhere), positions, scale)
+
+
+def recurs_at_its_angle(t: np.ndarray, theta: np.ndarray, omega: np.ndarray, residual: np.ndarray, start_s: float,
+                        duration_s: float, score_scale: float) -> bool:
+    """Whether a burst found at ``start_s`` lasting ``duration_s`` (s) in ``residual`` (N·m) is seen again where the joint
+    passes the same angles the same way: a function of angle (a stop's contact, a passive curve's kink), not of time.
+
+    The half-sine over the burst's window is carried to the angle (rad, ``theta``) the joint had there; the residual
+    at every other pass through those angles in the same direction (``omega``, rad/s), a duration or more from the
+    burst, is projected on it. Seen again: that amplitude has the burst's sign, at least half its size, and is
+    significant one-sided at 2.5 % (its standard error from ``score_scale``, the scan's σ²_g, over the projection's
+    energy). A burst at a hold (its window not moving one way) is never seen again this way."""
+    ok = np.isfinite(residual) & np.isfinite(theta) & np.isfinite(omega)
+    window = ok & (t >= start_s) & (t <= start_s + duration_s)
+    if window.sum() < 3 or not score_scale > 0:
+        return False
+    direction = float(np.sign(np.median(omega[window])))
+    if direction == 0.0 or np.mean(omega[window] * direction > 0) < 0.9:
+        return False
+    g = np.sin(np.pi * np.clip((t[window] - start_s) / duration_s, 0.0, 1.0))
+    r = residual[window]
+    amplitude = float(r @ g) / float(g @ g)
+    th = theta[window]
+    order = np.argsort(th)
+    lo, hi = float(th[order[0]]), float(th[order[-1]])
+    others = ok & ((t < start_s - duration_s) | (t > start_s + 2 * duration_s)) & (omega * direction > 0) \
+        & (theta >= lo) & (theta <= hi)
+    if others.sum() < 3 or hi <= lo:
+        return False
+    g_other = np.interp(theta[others], th[order], g[order])
+    energy = float(g_other @ g_other)
+    if energy <= 1e-12:
+        return False
+    again = float(residual[others] @ g_other) / energy * math.copysign(1.0, amplitude)
+    return again >= 0.5 * abs(amplitude) and again / math.sqrt(score_scale / energy) > 1.96
 
 
 def effective_n(residual: np.ndarray) -> float:

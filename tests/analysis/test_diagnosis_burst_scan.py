@@ -8,7 +8,7 @@ import pytest
 from scipy.signal import lfilter
 
 from analysis.diagnosis import diagnose
-from analysis.diagnosis.evidence import burst_scan
+from analysis.diagnosis.evidence import burst_scan, recurs_at_its_angle
 from analysis.diagnosis.policy import BURST_SCAN_ALPHA
 
 
@@ -94,3 +94,39 @@ def test_bursts_in_an_independent_family_drowned_by_slow_structure_are_named_by_
         truth = g.effects["activation_burst"]
         assert truth is not None
         assert abs(abs(d.parameters["burst_amplitude_Nm"]) - truth) <= 0.15 * truth
+
+
+def _strokes() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A joint swept 0–1 rad and back every 20 s for 100 s at 100 Hz: (time s, angle rad, angular velocity rad/s)."""
+    t = np.arange(0.0, 100.0, 0.01)
+    theta = 2.0 * np.abs((t / 20.0) % 1.0 - 0.5)
+    return t, theta, np.gradient(theta, t)
+
+
+def test_a_blip_at_the_same_angle_on_every_pass_up_is_a_function_of_angle_not_a_burst() -> None:
+    """A stop's contact crossed on each stroke up: the blip the scan picks once is seen again on the other passes."""
+    t, theta, omega = _strokes()
+    rng = np.random.default_rng(4)
+    r = 0.05 * rng.normal(size=t.size)
+    crossings = t[np.flatnonzero((theta[:-1] < 0.5) & (theta[1:] >= 0.5) & (omega[:-1] > 0))]
+    for c in crossings:
+        r += 0.3 * _half_sine(t, c - 0.15, 0.3)
+    scan = burst_scan(t, r, 0.3)
+    assert crossings.size == 5
+    assert recurs_at_its_angle(t, theta, omega, r, scan.peak_start_s, 0.3, scan.score_scale)
+
+
+def test_a_burst_once_in_time_is_not_seen_again_at_its_angle() -> None:
+    t, theta, omega = _strokes()
+    rng = np.random.default_rng(5)
+    r = 0.05 * rng.normal(size=t.size) + 0.3 * _half_sine(t, 34.85, 0.3)  # once, on the third stroke up
+    scan = burst_scan(t, r, 0.3)
+    assert scan.unique(BURST_SCAN_ALPHA) and abs(scan.peak_start_s - 34.85) < 0.15
+    assert not recurs_at_its_angle(t, theta, omega, r, scan.peak_start_s, 0.3, scan.score_scale)
+
+
+def test_a_burst_during_a_hold_is_never_taken_for_a_function_of_angle() -> None:
+    t = np.arange(0.0, 60.0, 0.01)
+    theta = np.where(t < 30.0, 0.2, 0.2 + 0.01 * (t - 30.0))
+    r = 0.3 * _half_sine(t, 10.0, 0.5)
+    assert not recurs_at_its_angle(t, theta, np.gradient(theta, t), r, 10.0, 0.5, 0.01)
