@@ -58,7 +58,7 @@ from .family_b_truth import EFFECTS, FamilyBTrial
 #: 4b85b78), the seventeenth (``diagnosis_family_q``, run once on 4b85b78) and the eighteenth (``diagnosis_family_r``,
 #: run once on 406c919), the nineteenth (``diagnosis_family_s``, run once on 62d202b), the twentieth
 #: (``diagnosis_family_t``, run once on 9555647), the twenty-first (``diagnosis_family_u``, run once on f319385) and the
-#: twenty-second (``diagnosis_family_v``, written before the next engine change, not yet run)
+#: twenty-second (``diagnosis_family_v``, run once on c3d0003)
 FAMILIES = {"b": (family_b_truth.generate_b, family_b_truth.MAGNITUDE_KEY),
             "c": (family_c_truth.generate_c, family_c_truth.MAGNITUDE_KEY),
             "d": (family_d_truth.generate_d, family_d_truth.MAGNITUDE_KEY),

@@ -1,5 +1,5 @@
 """A twenty-second generator family for the diagnosis, written before the twenty-first's run and before the engine
-change after the next, to be run once on that change's frozen engine.
+change after the next, run once on that change's frozen engine (c3d0003; benchmarks/results/diagnosis_family_v.json).
 
 The second to twenty-first families (:mod:`benchmarks.family_b_truth` … ``family_u_truth``) become development data
 once run. This one draws every cause from a law the engine's library does not hold (checked against

@@ -56,7 +56,6 @@ from ..trial_csv import NOMINAL_RANGE_DEG
 from .causes import (
     AFO_STOP_OR_SPRING_HINT,
     ARGUMENT_CAUSES,
-    BURST_DURATION_S,
     CAUSES,
     LAW_VARIANTS,
     SEPARATE_BY,
@@ -72,7 +71,6 @@ from .data import DiagnosisTrial
 from .evidence import (
     average_variants,
     bic,
-    burst_scan,
     effective_n,
     heldout_block_s,
     heldout_folds,
@@ -80,7 +78,6 @@ from .evidence import (
     likeliest_law,
     magnitude_variants,
     parameter_se,
-    recurs_at_its_angle,
     systematic_regions,
 )
 from .fitting import CauseFit, absorbed_by_baseline, fit_cause
@@ -89,7 +86,6 @@ from .policy import (
     AFO_STOP_MIN_HELDOUT_GAIN,
     AFO_STOP_NOT_BESIDE,
     AFO_STOP_T,
-    BURST_SCAN_ALPHA,
     LOCAL_STOP_T,
     MAX_DELTA_BIC_WITH_STRONG_HELDOUT,
     MAX_RATE_HZ,
@@ -252,16 +248,13 @@ class _Search:
         # at the trial's start, 1–2 s long and 2–6 N·m, against the true 0.4–0.8 N·m at 9–51 s), and the burst the
         # test then weighs on the free curve is not the one in the data. Development, spent families 13–18 (knee and
         # ankle): single bursts 43 → 57 of 96 named, clean trials 184 → 183 of 240, pairs with a burst 24 → 24 of 84
-        # Or when it stands out of the scan statistic on the flexible residual (burst_stands_out: judged against what
-        # the same filter finds elsewhere in the trial, at a familywise level, and not seen again at its angles; no
-        # peak-to-noise floor, the level is the guard). Development figures: docs/validation.md, thirtieth stop
         of_time, d_own = False, float("nan")
         if added.name == "activation_burst" and ref == ("none",):
             flex_model = self.flexible(model, searched=True)
             n_flex = effective_n(self.flex.torque - flex_model.prediction)
             peak = abs(flex_model.params["burst_amplitude_Nm"]) / math.sqrt(flex_model.rss / max(flex_model.n, 1))
             d_own = bic(flex_model, n_flex) - bic(self.flexible(ref), n_flex)
-            of_time = (d_own < -need and peak >= MIN_PEAK_TO_NOISE) or self.burst_stands_out(flex_model)
+            of_time = d_own < -need and peak >= MIN_PEAK_TO_NOISE
         # a second way in, by strong out-of-sample evidence: held-out blocks predicted far better
         # (gain > STRONG_HELDOUT_GAIN) while the in-sample criterion does not speak against it. A
         # local effect (a stop over the last degrees) barely moves the whole-trial BIC, whose
@@ -294,30 +287,6 @@ class _Search:
                 if not ok:
                     self.stops_not_told_from_smooth.add("+".join(model))
         return _Evidence(d, gain, d_flex, n_eff, ho, ok, d_own)
-
-    def burst_stands_out(self, flex_burst: CauseFit) -> bool:
-        """Whether the burst of ``flex_burst`` (searched on the flexible baseline) is the one significant event of
-        the scan statistic on the flexible baseline's residual (:func:`evidence.burst_scan` at its duration, familywise
-        level :data:`BURST_SCAN_ALPHA`), the scan's peak is this burst (its start within half a duration), and it is not
-        seen again where the joint passes the same angles the same way (:func:`evidence.recurs_at_its_angle`: a stop's
-        contact crossed on every stroke leaves a blip each time, of which one may clear the level alone).
-
-        A burst is judged against the noise the same filter meets elsewhere in the trial, not against the whole
-        trial's criterion: slow structure anywhere in a long trial shrinks its n_eff, and a burst of 2.5–7.4× the
-        residual, placed within 1 s of the truth, was rejected at n_eff 22–229 (spent families 17–20). A burst whose
-        duration sits at a bound of :data:`BURST_DURATION_S` is not judged this way."""
-        duration = flex_burst.params["burst_duration_s"]
-        shortest, longest = BURST_DURATION_S
-        if not shortest * (1 + 1e-3) < duration < longest * (1 - 1e-3):
-            # held at a bound of the physiological duration, the feature is shorter or longer than a burst: a torque
-            # converter that stuck for 8 samples at 100 Hz (spent fifteenth-family clean ankles) fitted 0.15 s
-            return False
-        residual = self.flex.torque - self.flexible(("none",)).prediction
-        scan = burst_scan(self.flex.t, residual, duration)
-        start = flex_burst.params["burst_start_s"]
-        return (scan.unique(BURST_SCAN_ALPHA) and abs(scan.peak_start_s - start) <= 0.5 * duration
-                and not recurs_at_its_angle(self.flex.t, self.flex.theta, self.flex.omega, residual, start, duration,
-                                            scan.score_scale))
 
     def smooth_rival(self, model: tuple[str, ...]) -> tuple[CauseFit, np.ndarray]:
         """``model`` with its stop replaced by a smooth stiffening at the stop's end of the range (one more

@@ -11,7 +11,6 @@ import numpy as np
 
 from .causes import (
     ACCEL_WINDOWS_S,
-    BURST_DURATION_S,
     CAUSES,
     LAW_RIVALS,
     LAW_VARIANTS,
@@ -339,123 +338,6 @@ def heldout_residuals(prep: Prepared, cause: Cause, folds: int = 5, nonlinear: t
         fit = fit_cause(prep, cause, train, refine=False, start=nonlinear)
         out[block] = prep.torque[block] - fit.prediction[block]
     return out
-
-
-#: median of the χ² distribution with one degree of freedom: a matched filter's score over pure noise, in units of
-#: its mean, has this median
-CHI2_1_MEDIAN = 0.454936
-#: the burst scan's residual is held within this many robust SDs (1.4826 × the median absolute deviation) of its
-#: median: a single-sample spike (a thirteenth-family clean knee had one of 13 SDs) otherwise scores as a short burst,
-#: while Gaussian noise passes unchanged (a sample beyond 4.5 SD occurs once in 150,000)
-BURST_SCAN_CLIP_SD = 4.5
-
-
-@dataclass(frozen=True)
-class BurstScan:
-    """A half-sine of one duration slid over a residual (:func:`burst_scan`)."""
-
-    peak_start_s: float     #: start (s) of the best-scoring position
-    peak_p: float           #: familywise p-value of that score over the trial's starts and the durations searched
-    elsewhere_p: float      #: familywise p-value of the best score at a start at least one duration from the peak
-    positions: float        #: the span in durations times the durations searched (the correction's size, for a report)
-    score_scale: float = math.nan  #: σ²_g (N·m²): a burst score's scale over noise, the median score / the χ²₁ median
-
-    def unique(self, alpha: float) -> bool:
-        """The peak is significant at familywise level ``alpha`` and nothing clear of it is."""
-        return self.peak_p < alpha <= self.elsewhere_p
-
-
-def burst_scan(t: np.ndarray, residual: np.ndarray, duration_s: float) -> BurstScan:
-    """The matched-filter scan statistic of a half-sine burst lasting ``duration_s`` (s) on ``residual`` (N·m at
-    times ``t``, s; NaN samples left out, the rest held within :data:`BURST_SCAN_CLIP_SD` robust SDs of the median),
-    starts every quarter duration.
-
-    At each start s the score is the residual sum of squares a burst there would remove, (Σ r·g)² / Σ g², the
-    Rao score statistic of its amplitude. Over noise of any spectrum, stationary over a few durations, each score is
-    σ²_g·χ²₁ with one σ²_g for all starts; σ²_g is read as the median score over the trial / :data:`CHI2_1_MEDIAN`,
-    so the noise a burst is judged against is what the same filter sees elsewhere in the same trial, not the whole
-    trial's effective sample size (which slow structure anywhere shrinks). The familywise p-value is the expected
-    number of the score's upcrossings of the peak's level over the trial (Rice's formula for the filter's output,
-    span / d · e^(−z/2), plus the chance of starting above it), times 1 + ln(longest / shortest duration) for the
-    durations the search tried. The sums over each window come from prefix sums of r·sin(πt/d), r·cos(πt/d), cos(2πt/d),
-    sin(2πt/d) (sin(π(t − s)/d) expanded), so the scan costs a few passes over the trial."""
-    ok = np.isfinite(residual)
-    t_ok = t[ok]
-    r = residual[ok]
-    if r.size:
-        centre = float(np.median(r))
-        spread = BURST_SCAN_CLIP_SD * 1.4826 * float(np.median(np.abs(r - centre)))
-        r = np.clip(r, centre - spread, centre + spread) if spread > 0 else r
-    span = float(t_ok[-1] - t_ok[0]) if t_ok.size else 0.0
-    durations = 1.0 + math.log(BURST_DURATION_S[1] / BURST_DURATION_S[0])
-    positions = max(span / duration_s, 1.0) * durations
-    if t_ok.size < 3 or span <= duration_s:
-        return BurstScan(math.nan, 1.0, 1.0, positions)
-    w = math.pi / duration_s
-    phase = w * (t_ok - t_ok[0])
-    prefix = [np.concatenate([[0.0], np.cumsum(v)]) for v in
-              (r * np.sin(phase), r * np.cos(phase), np.cos(2 * phase), np.sin(2 * phase), np.ones_like(r))]
-    starts = np.arange(t_ok[0], t_ok[-1] - duration_s + 1e-12, duration_s / 4)
-    lo = np.searchsorted(t_ok, starts, side="left")
-    hi = np.searchsorted(t_ok, starts + duration_s, side="right")
-    rs, rc, c2, s2, count = (p[hi] - p[lo] for p in prefix)
-    a = w * (starts - t_ok[0])
-    numerator = np.cos(a) * rs - np.sin(a) * rc          # Σ r·sin(π(t − s)/d)
-    energy = 0.5 * (count - np.cos(2 * a) * c2 - np.sin(2 * a) * s2)  # Σ sin²(π(t − s)/d)
-    usable = (count >= 3) & (energy > 1e-12)
-    if not usable.any():
-        return BurstScan(math.nan, 1.0, 1.0, positions)
-    score = np.where(usable, numerator ** 2 / np.where(usable, energy, 1.0), np.nan)
-    scale = float(np.nanmedian(score)) / CHI2_1_MEDIAN
-    if not scale > 0:
-        return BurstScan(math.nan, 1.0, 1.0, positions)
-
-    def familywise(z: float) -> float:
-        # Rice's formula: the filter output over white noise, normalised, is a Gaussian process whose second spectral
-        # moment is ∫g'² / ∫g² = (π/d)², so |Z| crosses √z upward (span / d)·e^(−z/2) times on average
-        z = max(z, 0.0)
-        p = math.erfc(math.sqrt(z / 2.0)) + span / duration_s * math.exp(-z / 2.0)
-        return min(1.0, durations * p)
-
-    i = int(np.nanargmax(score))
-    clear = usable & (np.abs(starts - starts[i]) >= duration_s)
-    elsewhere = float(np.max(score[clear])) / scale if clear.any() else 0.0
-    return BurstScan(float(starts[i]), familywise(float(score[i]) / scale), familywise(elsewhere), positions, scale)
-
-
-def recurs_at_its_angle(t: np.ndarray, theta: np.ndarray, omega: np.ndarray, residual: np.ndarray, start_s: float,
-                        duration_s: float, score_scale: float) -> bool:
-    """Whether a burst found at ``start_s`` lasting ``duration_s`` (s) in ``residual`` (N·m) is seen again where the joint
-    passes the same angles the same way: a function of angle (a stop's contact, a passive curve's kink), not of time.
-
-    The half-sine over the burst's window is carried to the angle (rad, ``theta``) the joint had there; the residual
-    at every other pass through those angles in the same direction (``omega``, rad/s), a duration or more from the
-    burst, is projected on it. Seen again: that amplitude has the burst's sign, at least half its size, and is
-    significant one-sided at 2.5 % (its standard error from ``score_scale``, the scan's σ²_g, over the projection's
-    energy). A burst at a hold (its window not moving one way) is never seen again this way."""
-    ok = np.isfinite(residual) & np.isfinite(theta) & np.isfinite(omega)
-    window = ok & (t >= start_s) & (t <= start_s + duration_s)
-    if window.sum() < 3 or not score_scale > 0:
-        return False
-    direction = float(np.sign(np.median(omega[window])))
-    if direction == 0.0 or np.mean(omega[window] * direction > 0) < 0.9:
-        return False
-    g = np.sin(np.pi * np.clip((t[window] - start_s) / duration_s, 0.0, 1.0))
-    r = residual[window]
-    amplitude = float(r @ g) / float(g @ g)
-    th = theta[window]
-    order = np.argsort(th)
-    lo, hi = float(th[order[0]]), float(th[order[-1]])
-    others = ok & ((t < start_s - duration_s) | (t > start_s + 2 * duration_s)) & (omega * direction > 0) \
-        & (theta >= lo) & (theta <= hi)
-    if others.sum() < 3 or hi <= lo:
-        return False
-    g_other = np.interp(theta[others], th[order], g[order])
-    energy = float(g_other @ g_other)
-    if energy <= 1e-12:
-        return False
-    again = float(residual[others] @ g_other) / energy * math.copysign(1.0, amplitude)
-    return again >= 0.5 * abs(amplitude) and again / math.sqrt(score_scale / energy) > 1.96
 
 
 def effective_n(residual: np.ndarray) -> float:

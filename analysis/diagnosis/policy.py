@@ -59,11 +59,6 @@ AFO_STOP_MAX_DELTA_BIC = 3.0
 #: benchmarks use) this removed 3 of 5 false stops on 300 clean ankle trials, 1 of 1 on 300 knee and
 #: 1 of 3 on 600 AFO trials, while the 240 true stops named (3–5× the noise) had fitted ratios ≥ 2.16
 MIN_PEAK_TO_NOISE = 2.0
-#: a burst alone is also named by a scan statistic (evidence.burst_scan): its matched-filter score, in units of the
-#: median score over every start of the trial (the local noise, whatever its spectrum), is significant at this
-#: familywise level over the trial's independent starts and durations, and no start clear of it is. A burst is one
-#: event; a shape the model misses at every reversal scores alike at each. A conventional level, set before measuring
-BURST_SCAN_ALPHA = 0.01
 #: Measured and left out (twenty-fourth stop): a stop required to hold both ways where the trial passes it both ways
 #: (fitted without the samples past it moving outward it had to predict them better than no stop, and likewise those
 #: moving back; an elastic torque is a function of angle, a friction's, damping's or delay's law mismatch at the range's
