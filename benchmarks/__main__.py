@@ -38,6 +38,7 @@ BENCHMARKS = {"drivers": "benchmarks.drivers", "pmp_opensim": "benchmarks.pmp_op
               "diagnosis_family_t": "benchmarks.diagnosis_family_t",
               "diagnosis_family_u": "benchmarks.diagnosis_family_u",
               "diagnosis_family_v": "benchmarks.diagnosis_family_v",
+              "diagnosis_family_w": "benchmarks.diagnosis_family_w",
               "sindy_peer_families": "benchmarks.sindy_peer_families",
               "pmp_realistic": "benchmarks.pmp_realistic", "lsl": "benchmarks.lsl",
               "pmp_speed": "benchmarks.pmp_speed", "pmp_segment_scales": "benchmarks.pmp_segment_scales"}

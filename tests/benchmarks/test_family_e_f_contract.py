@@ -1,4 +1,4 @@
-"""The fifth to twenty-second generator families' shared contract: each cause hidden with its truth in a recording with a
+"""The fifth to twenty-third generator families' shared contract: each cause hidden with its truth in a recording with a
 lab's damage, and a seed making the same trial. Each family's own physics is tested in its own module."""
 
 from __future__ import annotations
@@ -28,11 +28,12 @@ from benchmarks.family_s_truth import generate_s
 from benchmarks.family_t_truth import generate_t
 from benchmarks.family_u_truth import generate_u
 from benchmarks.family_v_truth import generate_v
+from benchmarks.family_w_truth import generate_w
 
 GENERATORS = {"e": generate_e, "f": generate_f, "g": generate_g, "h": generate_h, "i": generate_i, "j": generate_j,
               "k": generate_k, "l": generate_l, "m": generate_m, "n": generate_n,
               "o": generate_o, "p": generate_p, "q": generate_q, "r": generate_r, "s": generate_s, "t": generate_t,
-              "u": generate_u, "v": generate_v}
+              "u": generate_u, "v": generate_v, "w": generate_w}
 
 
 @pytest.mark.parametrize("family", list(GENERATORS))
