@@ -10,7 +10,8 @@ generators (only the scoring contract of :mod:`benchmarks.family_b_truth` and th
 
 - Passive moment: at each end of a joint's range an entropic (worm-like chain) element, per unit stiffness
   L·(1/(4(1 − x/L)²) − 1/4 + x/L) for an angle x past the onset and a contour angle L (Marko & Siggia 1995, the law of
-  titin's extensible segment): linear at its onset, rising without bound toward L; L set so the range's end reaches
+  titin's extensible segment), its stretch s = w·ln(1 + e^{x/w}) (the fibres' onsets spread over w 2–6°, so the
+  stiffness rises smoothly from the onset: no kink), rising without bound toward L; L set so the range's end reaches
   60–85 % of it; the steep end sized by its torque at the range's end, the onset toward a two-joint muscle moved by
   the other joint's angle; a small linear term. The AFO: a gently progressive spring k·θⁿ (n 1.1–1.4).
 - Motion: half-cosine strokes (the speed a sine over each stroke, peaking mid-range, a mean of 3–7 °/s drawn per
@@ -80,10 +81,13 @@ NOISE_SD_NM = {"afo": 0.06, "knee": 0.16, "ankle": 0.12}
 COUPLING_SHIFT = (0.05, 0.2)
 
 
-def worm_like_chain(x_deg: np.ndarray, contour_deg: float) -> np.ndarray:
-    """An entropic element per unit stiffness, x the angle (deg) past its onset: 0 before it,
-    L·(1/(4(1 − x/L)²) − 1/4 + x/L) beyond, L = ``contour_deg`` (only x < L is meaningful)."""
-    u = np.clip(np.asarray(x_deg, dtype=float), 0.0, None) / contour_deg
+def worm_like_chain(x_deg: np.ndarray, contour_deg: float, spread_deg: float | None = None) -> np.ndarray:
+    """An entropic element per unit stiffness, x the angle (deg) past its onset: L·(1/(4(1 − s/L)²) − 1/4 + s/L),
+    L = ``contour_deg``, its stretch s = x past the onset (0 before it) or, with ``spread_deg`` w, the fibres'
+    onsets spread over a few degrees, s = w·ln(1 + e^{x/w}) (smooth at the onset; only s < L is meaningful)."""
+    x = np.asarray(x_deg, dtype=float)
+    stretch = np.clip(x, 0.0, None) if spread_deg is None else spread_deg * np.logaddexp(0.0, x / spread_deg)
+    u = stretch / contour_deg
     return contour_deg * (0.25 / (1.0 - u) ** 2 - 0.25 + u)
 
 
@@ -212,8 +216,8 @@ def _elastic(kind: str, deg: np.ndarray, fixed: dict[str, float], c: dict[str, A
     if kind == "afo":
         return c["k"] * progressive_spring(deg, c["exponent"])
     on_low, on_high = coupled_onsets(kind, c["on_low"], c["on_high"], c["shift"], fixed)
-    return (-c["a_low"] * worm_like_chain(on_low - deg, c["contour_low"])
-            + c["a_high"] * worm_like_chain(deg - on_high, c["contour_high"])
+    return (-c["a_low"] * worm_like_chain(on_low - deg, c["contour_low"], c["spread"])
+            + c["a_high"] * worm_like_chain(deg - on_high, c["contour_high"], c["spread"])
             + c["linear"] * (deg - 0.5 * (c["lo"] + c["hi"])))
 
 
@@ -225,15 +229,17 @@ def _coefficients(rng: np.random.Generator, kind: str, lo: float, hi: float) -> 
     big = {"knee": (4.0, 14.0), "ankle": (3.0, 10.0)}[kind]
     small = (1.0, 4.0)
     on_low, on_high = lo + rng.uniform(0.2, 0.45) * span, hi - rng.uniform(0.2, 0.45) * span
+    spread = float(rng.uniform(2.0, 6.0))
     # the contour: the range's end reaches 60–85 % of it (the onset may move by the coupling, up to 0.2 × 45°, and the
-    # contour is measured from the moved onset's farthest place so the element never reaches it)
-    reach_low, reach_high = on_low - lo + 9.0, hi - on_high + 9.0
+    # spread adds up to w·ln 2; the contour is measured from the farthest stretch so the element never reaches it)
+    reach_low, reach_high = on_low - lo + 9.0 + spread, hi - on_high + 9.0 + spread
     contour_low, contour_high = reach_low / rng.uniform(0.6, 0.85), reach_high / rng.uniform(0.6, 0.85)
     t_low = rng.uniform(*big) if kind == "knee" else rng.uniform(*small)
     t_high = rng.uniform(*small) if kind == "knee" else rng.uniform(*big)
-    return {"a_low": t_low / float(worm_like_chain(np.array(on_low - lo), contour_low)),
-            "a_high": t_high / float(worm_like_chain(np.array(hi - on_high), contour_high)),
-            "contour_low": contour_low, "contour_high": contour_high, "on_low": on_low, "on_high": on_high,
+    return {"a_low": t_low / float(worm_like_chain(np.array(on_low - lo), contour_low, spread)),
+            "a_high": t_high / float(worm_like_chain(np.array(hi - on_high), contour_high, spread)),
+            "contour_low": contour_low, "contour_high": contour_high, "spread": spread, "on_low": on_low,
+            "on_high": on_high,
             "shift": float(rng.uniform(*COUPLING_SHIFT)), "linear": float(rng.uniform(0.0, 0.02)), "lo": lo, "hi": hi}
 
 

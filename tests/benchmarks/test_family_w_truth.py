@@ -36,6 +36,14 @@ def test_the_worm_like_chain_is_linear_at_its_onset_and_steepens_toward_its_cont
     assert near > 100.0
 
 
+def test_spread_onsets_make_the_chain_smooth_where_it_engages() -> None:
+    x = np.array([-30.0, -1e-3, 1e-3, 30.0])
+    y = worm_like_chain(x, 60.0, 3.0)
+    assert y[0] < 1e-3 and y[3] == pytest.approx(float(worm_like_chain(np.array(30.0), 60.0)), rel=1e-3)
+    slope = np.gradient(worm_like_chain(np.linspace(-0.5, 0.5, 101), 60.0, 3.0), 0.01)
+    assert np.max(np.abs(np.diff(slope))) < 0.01  # no kink at the onset: the slope changes gradually
+
+
 def test_the_orthosis_spring_is_progressive() -> None:
     y = progressive_spring(np.array([-1.0, 1.0, 2.0]), 1.3)
     np.testing.assert_allclose(y, [0.0, 1.0, 2.0**1.3])
