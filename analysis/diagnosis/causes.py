@@ -81,8 +81,8 @@ END_EXP_RATES_PER_RAD: dict[str, tuple[tuple[float, ...], tuple[float, ...]]] = 
     "ankle": ((), (3.0, 9.0)),
 }
 
-#: the rates (1/rad) of the smooth curve a stop competes with at its end (engine._Search.smooth_rival), a joint's or an
-#: orthosis's:
+#: the rates (1/rad) of the smooth curve an orthosis's stop competes with at its end (engine._Search.smooth_rival; a
+#: joint's stop is judged by engine._Search.stop_is_a_kink):
 #: what passive tissue does. Published passive joint moments' exponential terms reach 0.195 /° = 11.2 /rad
 #: (Riener & Edrich 1999, ankle dorsiflexion; knee extension 0.150 /° = 8.6 /rad); the range runs to 20 /rad
 #: (an e-folding width of 2.9°) with that margin. A stiffening steeper than any passive tissue shows is a stop
@@ -398,14 +398,55 @@ def _stop_column(prep: Prepared, stop: float, theta: np.ndarray | None = None) -
     return -np.maximum(stop - th, 0.0)
 
 
+#: the engagement widths (rad) a rounded stop is searched over (engine._Search.stop_is_a_kink): from nearly a hinge
+#: to a passive element taken up over many degrees; a search grid, not a limit: the criterion decides
+STOP_ROUNDING_WIDTHS_RAD = np.deg2rad(np.geomspace(0.25, 16.0, 7))
+
+
+def _rounded_stop_column(prep: Prepared, stop: float, width: float) -> np.ndarray:
+    """A stop whose engagement is rounded over ``width`` (rad): w·ln(1 + e^{δ/w}) of the signed penetration δ past
+    ``stop`` (:func:`_stop_column`'s end and sign), the hinge as w → 0."""
+    if stop >= 0.5 * (prep.lo + prep.hi):
+        return width * np.logaddexp(0.0, (prep.theta - stop) / width)
+    return -width * np.logaddexp(0.0, (stop - prep.theta) / width)
+
+
+def rounded_stop_cause() -> Cause:
+    """The hard stop with a rounded engagement (its angle and width searched): the rival a stop must not lose to by
+    the criterion to be named a kink (engine._Search.stop_is_a_kink)."""
+    return Cause("hard_stop", "added stiffness past a stop angle, engaging over a width",
+                 ("afo", "knee", "ankle", "replica"),
+                 lambda p, nl: _plain(p, _rounded_stop_column(p, nl[0], nl[1])),
+                 lambda c, nl: {"stop_angle_deg": float(np.rad2deg(nl[0])),
+                                "stop_stiffness_Nm_per_deg": float(np.deg2rad(c[0])),
+                                "stop_rounding_deg": float(np.rad2deg(nl[1]))},
+                 "stop_stiffness_Nm_per_deg", lambda p: [_stop_grid(p)[0], STOP_ROUNDING_WIDTHS_RAD], signs=(1,),
+                 n_nonlinear=2)
+
+
+def toe_onset_cause() -> Cause:
+    """A passive element whose stiffness starts rising at an angle (a toe region's onset: the torque ∝ δ², δ the
+    penetration past it at :func:`_stop_column`'s end and sign): slope continuous, curvature not. A contact's
+    stiffness jumps where it is met (a kink in the torque); recruited tissue's rises from zero. The rival a stop must
+    not lose to by the criterion to be named a kink (engine._Search.stop_is_a_kink)."""
+    def column(p: Prepared, stop: float) -> np.ndarray:
+        pen = _stop_column(p, stop)
+        return np.sign(pen) * pen * pen
+
+    return Cause("hard_stop", "a stiffness rising from zero past an angle (a toe region's onset)",
+                 ("afo", "knee", "ankle", "replica"), lambda p, nl: _plain(p, column(p, nl[0])),
+                 lambda c, nl: {"stop_angle_deg": float(np.rad2deg(nl[0])), "toe_curvature_Nm_per_rad2": float(c[0])},
+                 "", _stop_grid, signs=(1,))
+
+
 def _stop_grid(prep: Prepared) -> list[np.ndarray]:
     """Stop angles spread evenly over the range (not over the samples: a bend spends little time past
     its stop).
 
     A joint's stop may sit anywhere in its range (40 angles; in the upper half it resists the top of the
     range, in the lower half the bottom); what tells it from a steeper passive end is the data
-    (engine._Search.stop_beats_smooth_rival), not where it sits. The orthosis's stop is its
-    dorsiflexion hinge stop, in the upper half of the bend (its lower end is the spring's
+    (engine._Search.stop_is_a_kink; an orthosis's engine._Search.stop_beats_smooth_rival), not where it sits. The
+    orthosis's stop is its dorsiflexion hinge stop, in the upper half of the bend (its lower end is the spring's
     engagement, cut). Every grid keeps 2 % of the range clear of either end."""
     span = prep.hi - prep.lo
     if prep.trial.kind == "afo":

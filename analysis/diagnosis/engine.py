@@ -20,11 +20,13 @@ Selection, in order:
    which a free curve in angle cannot mimic where angles are revisited); a hard stop also by its own test, the
    t statistic of its stiffness past a look-elsewhere-corrected level (:data:`LOCAL_STOP_T`) with
    held-out blocks predicted no worse (an orthosis's stop also at a
-   lower t with held-out blocks predicted clearly better: :data:`AFO_STOP_T`), and (a joint's or an orthosis's) only
-   when it predicts held-out blocks better than a smooth curve at its end of the range (a joint's steeper passive term, an
-   orthosis's spring off the quadratic: ``_Search.stop_beats_smooth_rival``). A cause that is not a function of
-   angle alone must also lower the criterion against the *flexible* baseline (a spline in angle), and so must a
-   series compliance, which in a slow trial only reshapes the curve in angle;
+   lower t with held-out blocks predicted clearly better: :data:`AFO_STOP_T`), and only
+   when it predicts held-out blocks better than a smooth curve at its end of the range (an orthosis's spring off the
+   quadratic: ``_Search.stop_beats_smooth_rival``). A joint's stop (knee, ankle) is also named, where those tests
+   refuse it, as a kink that a free curve in angle cannot follow, judged on the flexible baseline
+   (``_Search.stop_is_a_kink``). A
+   cause that is not a function of angle alone must also lower the criterion against the *flexible* baseline (a
+   spline in angle), and so must a series compliance, which in a slow trial only reshapes the curve in angle;
 5. a cause whose effect the baseline can mimic (R² > ``max_absorbed_r2`` of its effect direction
    on the baseline basis; on the flexible baseline's basis for a cause that must also beat that baseline) is not
    testable in this trial: it is never named, and the report says what the trial would need;
@@ -49,7 +51,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from scipy.optimize import minimize_scalar
+from scipy.optimize import minimize, minimize_scalar
 
 from ..errors import InputError
 from ..trial_csv import NOMINAL_RANGE_DEG
@@ -65,7 +67,11 @@ from .causes import (
     Cause,
     Prepared,
     _ext_count,
+    _nl_count,
+    _stop_grid,
     compound,
+    rounded_stop_cause,
+    toe_onset_cause,
 )
 from .data import DiagnosisTrial
 from .evidence import (
@@ -141,6 +147,8 @@ class _Search:
         self._folds: dict[float | None, tuple[str, list[np.ndarray]]] = {}
         #: models whose stop passed every test against its reference but not against a smooth stiffening
         self.stops_not_told_from_smooth: set[str] = set()
+        #: models whose joint's stop was named as a kink on the flexible baseline (stop_is_a_kink), not by the parametric test
+        self.stops_named_as_kinks: set[frozenset[str]] = set()
 
     def fit(self, names: tuple[str, ...]) -> tuple[Cause, CauseFit]:
         key = "+".join(names)
@@ -263,6 +271,7 @@ class _Search:
         # stayed ≤ 7.1 (24 trials; benchmarks/diagnosis)
         strong = (not added.transient and gain > STRONG_HELDOUT_GAIN and d < MAX_DELTA_BIC_WITH_STRONG_HELDOUT
                   and ho <= (1.0 - STRONG_MIN_HELDOUT_IMPROVEMENT) * ref_ho)
+        joint_stop = added.name == "hard_stop" and self.prep.trial.kind in ("knee", "ankle")
         local = added.name == "hard_stop" and gain > 0.0 \
             and self.stop_t(model, n_eff) > LOCAL_STOP_T
         if added.name == "hard_stop" and self.prep.trial.kind == "afo" and not local \
@@ -284,9 +293,118 @@ class _Search:
             # worth of independent samples), and no development family has replica trials to measure it on
             if ok and self.prep.trial.kind != "replica":
                 ok = self.stop_beats_smooth_rival(model)
+                if ok and joint_stop:  # and a joint's stop not taken up over degrees (stop_is_a_kink's rivals)
+                    ok = not self.stop_taken_up(model, self.prep, self.fit(model)[1], n_eff)
                 if not ok:
                     self.stops_not_told_from_smooth.add("+".join(model))
+        if not ok and joint_stop:  # a joint's stop is also named as a kink a free curve in angle cannot follow
+            ok = self.stop_is_a_kink(model, ref)
+            if ok:
+                self.stops_named_as_kinks.add(frozenset(model))
         return _Evidence(d, gain, d_flex, n_eff, ho, ok, d_own)
+
+    def stop_is_a_kink(self, model: tuple[str, ...], ref: tuple[str, ...]) -> bool:
+        """Whether the joint's stop in ``model`` (``ref`` plus the stop) is a kink in the torque–angle curve that a free
+        curve in angle cannot follow: judged on the flexible baseline (the parametric one plus a cubic spline in angle),
+        its angle searched there, it must
+
+        - lower the criterion against ``ref`` on that baseline by ``min_delta_bic`` at that fit's own n_eff;
+        - predict held-out blocks better than ``ref`` there by strong held-out evidence (n_eff · ln of their MSE ratio
+          > :data:`STRONG_HELDOUT_GAIN`: a stop acts over a few degrees of every pass);
+        - reach :data:`MIN_PEAK_TO_NOISE` × the fit's residual RMS at its deepest;
+        - not be fitted clearly better (ΔBIC < −``min_delta_bic``) by a stop engaging over a width
+          (:func:`causes.rounded_stop_cause`, its angle and width searched, one more parameter) or by a toe region's
+          onset, a stiffness rising from zero past an angle (:func:`causes.toe_onset_cause`): a contact's stiffness
+          jumps where it is met, tissue's is taken up over degrees; where either fits clearly better the report says
+          the end may be either.
+
+        A joint's stop is first judged on the parametric baseline (its stiffness's t statistic, the held-out gain over a
+        smooth stiffening at its end); this is the second way in, where that refuses it. A passive end outside the
+        parametric baseline's family leaves a misfit many times a stop's size, which the stop takes: on spent families'
+        clean knees and ankles (thirteenth to twenty-second) the hinge stood at the passive ends' onsets 10–90 × the
+        noise, and beside such a misfit a true stop of 3–5 × the noise was named in 15 of 160 trials. The spline takes
+        the smooth misfit and leaves the kink. It is not the only way in: beside a steep passive end in the parametric
+        family (the first generator's ankle stops on Riener's plantarflexion term) the spline bends with the end and
+        takes part of the kink, where the parametric test names it (with this test alone that generator's singles fell
+        0.895 → 0.851 and its pairs 0.753 → 0.634). No rule says where in the range a stop may sit or which end is
+        steep. What this cannot tell apart, measured: a passive element that goes taut at one angle (a check strap, a
+        chain without a toe region, single collagen fibres) is a kink, and a toe region taken up over a few degrees fits
+        a hinge as well as its own onset at a few times the noise (docs/validation.md, thirty-first stop)."""
+        cause, _ = self.fit(model)
+        flex_fit = self.flexible(model, searched=True)
+        n_flex = effective_n(self.flex.torque - flex_fit.prediction)
+        if bic(flex_fit, n_flex) - bic(self.flexible(ref), n_flex) >= -self.min_delta_bic:
+            return False
+        resid = heldout_residuals(self.flex, cause, self.folds, flex_fit.nonlinear, self.folds_of(model)[1])
+        ref_resid = self.heldout_residuals(ref, flexible=True, folds_from=model)
+        ok = np.isfinite(resid) & np.isfinite(ref_resid)
+        if ok.sum() < 10:
+            return False
+        gain = n_flex * math.log(float(np.mean(ref_resid[ok] ** 2)) / float(np.mean(resid[ok] ** 2)))
+        offset = _stop_offset(cause)
+        _, ext, valid = cause.columns(self.flex, flex_fit.nonlinear)
+        peak = float(np.max(np.abs(ext[valid][:, offset]))) * abs(float(flex_fit.coef[flex_fit.n_base + offset]))
+        noise = math.sqrt(flex_fit.rss / max(flex_fit.n, 1))
+        if gain <= STRONG_HELDOUT_GAIN or noise <= 0 or peak / noise < MIN_PEAK_TO_NOISE:
+            return False
+        if self.stop_taken_up(model, self.flex, flex_fit, n_flex):
+            self.stops_not_told_from_smooth.add("+".join(model))
+            return False
+        return True
+
+    def stop_taken_up(self, model: tuple[str, ...], signals: Prepared, fit: CauseFit, n_eff: float) -> bool:
+        """Whether the stop in ``model``, fitted as ``fit`` on ``signals``' baseline, is fitted clearly better
+        (ΔBIC < −``min_delta_bic`` at ``n_eff``) by a stop engaging over a width or by a toe region's onset
+        (:meth:`stop_rival`): a stiffening taken up over degrees, as tissue is, not a contact's kink."""
+        return any(bic(self.stop_rival(model, fit, rival, signals), n_eff) - bic(fit, n_eff) < -self.min_delta_bic
+                   for rival in (rounded_stop_cause(), toe_onset_cause()))
+
+    def stop_rival(self, model: tuple[str, ...], flex_fit: CauseFit, stop_rival: Cause,
+                   signals: Prepared | None = None) -> CauseFit:
+        """``model`` on ``signals``' baseline (default the flexible one) with its stop replaced by ``stop_rival`` (a
+        rounded engagement, :func:`causes.rounded_stop_cause`, or a toe region's onset, :func:`causes.toe_onset_cause`),
+        the other cause's parameters held at ``flex_fit``'s (the model's fit on those signals). A rounded engagement's
+        angle is searched within two of its widths of the hinge's corner (the width on its grid); a toe's onset over
+        the stop's whole grid (a hinge can sit degrees away from the onset it stands in for, where the spline's knots
+        leave room); then both refined by Nelder–Mead (on the width's log)."""
+        prep_r = self.flex if signals is None else signals
+        cause, _ = self.fit(model)
+        held: dict[str, tuple[float, ...]] = {}
+        i = 0
+        for part in cause.parts or (cause,):
+            held[part.name] = tuple(flex_fit.nonlinear[i:i + _nl_count(part)])
+            i += _nl_count(part)
+        others = [n for n in model if n != "hard_stop"]
+        rival = compound(self.library[others[0]], stop_rival) if others else stop_rival
+        hinge = held["hard_stop"][0]
+        rounded = _nl_count(stop_rival) == 2
+
+        def nonlinear(v: tuple[float, ...]) -> tuple[float, ...]:
+            out: tuple[float, ...] = ()
+            for part in rival.parts or (rival,):
+                out += v if part.name == "hard_stop" else held[part.name]
+            return out
+
+        def mse(v: tuple[float, ...]) -> float:
+            f = fit_cause(prep_r, rival, refine=False, start=nonlinear(v))
+            return f.rss / max(f.n, 1) if f.n else math.inf
+
+        rows: list[tuple[float, ...]]
+        if rounded:
+            rows = [(hinge + k * w, w) for w in stop_rival.grid(prep_r)[1] for k in np.linspace(-2, 2, 9)]
+        else:
+            rows = [(float(a),) for a in _stop_grid(prep_r)[0]]
+        best = min(rows, key=mse)
+        x0 = np.array([best[0], math.log(best[1])]) if rounded else np.array(best)
+
+        def unpack(x: np.ndarray) -> tuple[float, ...]:
+            return (float(x[0]), math.exp(float(x[1]))) if rounded else (float(x[0]),)
+
+        refined = minimize(lambda x: mse(unpack(x)), x0, method="Nelder-Mead",
+                           options={"xatol": 1e-4, "fatol": 1e-12, "maxiter": 120})
+        if refined.fun < mse(best):
+            best = unpack(refined.x)
+        return fit_cause(prep_r, rival, refine=False, start=nonlinear(best))
 
     def smooth_rival(self, model: tuple[str, ...]) -> tuple[CauseFit, np.ndarray]:
         """``model`` with its stop replaced by a smooth stiffening at the stop's end of the range (one more
@@ -530,13 +648,22 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
                     if hint:
                         separate.append(hint)
     if "hard_stop" not in chosen and search.stops_not_told_from_smooth:
-        _, stop_fit = search.fit(tuple(min(search.stops_not_told_from_smooth, key=len).split("+")))
+        unsure = tuple(min(search.stops_not_told_from_smooth, key=len).split("+"))
+        # a joint's stop is judged on the flexible baseline, its angle searched there (_Search.stop_is_a_kink)
+        stop_fit = search.fit(unsure)[1] if prep.trial.kind not in ("knee", "ankle") else \
+            search.flexible(unsure, searched=True)
         hint = AFO_STOP_OR_SPRING_HINT if prep.trial.kind == "afo" else STOP_OR_STEEPER_END_HINT
-        curve = "the spring's curve" if prep.trial.kind == "afo" else "a passive term"
-        notes.append(f"the end of the range stiffens beyond the baseline's passive curve from about "
-                     f"{stop_fit.params['stop_angle_deg']:.0f}°: a stop, or {curve} steeper than the baseline's; "
-                     "this trial cannot tell them apart (the stop does not predict held-out blocks clearly better), "
-                     f"so neither is named; to tell them apart: {hint}")
+        if prep.trial.kind in ("knee", "ankle"):
+            notes.append(f"the torque stiffens from about {stop_fit.params['stop_angle_deg']:.0f}° in a way a free curve "
+                         "in angle does not follow: a stop, or a passive term taken up over a few degrees (a toe "
+                         "region, which fits it clearly better here); this trial cannot tell them apart, so neither "
+                         f"is named; to tell them apart: {hint}")
+        else:
+            curve = "the spring's curve" if prep.trial.kind == "afo" else "a passive term"
+            notes.append(f"the end of the range stiffens beyond the baseline's passive curve from about "
+                         f"{stop_fit.params['stop_angle_deg']:.0f}°: a stop, or {curve} steeper than the baseline's; "
+                         "this trial cannot tell them apart (the stop does not predict held-out blocks clearly better), "
+                         f"so neither is named; to tell them apart: {hint}")
         separate.append(hint)
     final_cause, final = search.fit(chosen) if chosen else (CAUSES["none"], base)
     n_eff = effective_n(prep.torque - final.prediction)
@@ -573,6 +700,16 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
                   **{key: math.sqrt(var) if math.isfinite(var) else math.nan})
         notes.append(f"{name}: {key} averaged over " + ", ".join(f"{o.label} ({o.weight:.2f})" for o in fitted)
                      + f"; its other parameters from the likeliest ({likeliest.label})")
+    if frozenset(chosen) in search.stops_named_as_kinks:
+        # the angle a joint's stop was named at: where the kink is on the flexible baseline (_Search.stop_is_a_kink);
+        # on the parametric one a passive end's misfit can draw it elsewhere
+        holder = params if "stop_angle_deg" in params else also[0]["parameters"]
+        at = search.flexible(chosen, searched=True).params["stop_angle_deg"]
+        if abs(at - holder["stop_angle_deg"]) > 0.5:
+            notes.append(f"hard_stop: the kink is at {at:.1f}° (a free curve in angle beside it); the parametric "
+                         f"baseline's fit put it at {holder['stop_angle_deg']:.1f}°")
+        holder["stop_angle_deg"] = at
+        se.pop("stop_angle_deg", None)
     systematic = systematic_regions(prep, prep.torque - base.prediction, n_eff)
     ho_final = search.heldout(chosen) if chosen and not final_cause.transient else (base_ho if not chosen else float("nan"))
     delta = bic(final, n_eff) - bic(base, n_eff) if chosen else 0.0
