@@ -1,5 +1,5 @@
 """A twenty-third generator family for the diagnosis, written (2026-11-29, thirty-first stop) before that stop's engine
-change and held out from it: to be run once on the frozen engine, its figures committed as measured.
+change and held out from it, run once on its frozen engine (4f53208; benchmarks/results/diagnosis_family_w.json).
 
 The second to twenty-second families (:mod:`benchmarks.family_b_truth` … ``family_v_truth``) are development data
 once run. This one draws every cause from a law the engine's library does not hold (checked against
@@ -11,9 +11,10 @@ generators (only the scoring contract of :mod:`benchmarks.family_b_truth` and th
 - Passive moment: at each end of a joint's range an entropic (worm-like chain) element, per unit stiffness
   L·(1/(4(1 − x/L)²) − 1/4 + x/L) for an angle x past the onset and a contour angle L (Marko & Siggia 1995, the law of
   titin's extensible segment), its stretch s = w·ln(1 + e^{x/w}) (the fibres' onsets spread over w 2–6°, so the
-  stiffness rises smoothly from the onset: no kink), rising without bound toward L; L set so the range's end reaches
-  60–85 % of it; the steep end sized by its torque at the range's end, the onset toward a two-joint muscle moved by
-  the other joint's angle; a small linear term. The AFO: a gently progressive spring k·θⁿ (n 1.1–1.4).
+  stiffness rises smoothly from the onset: no kink; the thirteenth family's chain engaged at one angle), rising
+  without bound toward L; L set so the range's end reaches 60–85 % of it; the steep end sized by its torque at the
+  range's end, the onset toward a two-joint muscle moved by the other joint's angle; a small linear term. The AFO: a
+  gently progressive spring k·θⁿ (n 1.1–1.4).
 - Motion: half-cosine strokes (the speed a sine over each stroke, peaking mid-range, a mean of 3–7 °/s drawn per
   stroke ±15 %), holds of 0–2 s at each end, 2–4 cycles after a 0.5–1.5 s hold (a continuous-passive-motion
   machine's profile). The AFO: 6–12 raised-cosine bends of 10–20° taking 1–3 s each way, returning to 0–3° between
