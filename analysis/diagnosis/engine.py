@@ -321,15 +321,16 @@ class _Search:
         A joint's stop is first judged on the parametric baseline (its stiffness's t statistic, the held-out gain over a
         smooth stiffening at its end); this is the second way in, where that refuses it. A passive end outside the
         parametric baseline's family leaves a misfit many times a stop's size, which the stop takes: on spent families'
-        clean knees and ankles (thirteenth to twenty-second) the hinge stood at the passive ends' onsets 10–90 × the
-        noise, and beside such a misfit a true stop of 3–5 × the noise was named in 15 of 160 trials. The spline takes
-        the smooth misfit and leaves the kink. It is not the only way in: beside a steep passive end in the parametric
-        family (the first generator's ankle stops on Riener's plantarflexion term) the spline bends with the end and
-        takes part of the kink, where the parametric test names it (with this test alone that generator's singles fell
-        0.895 → 0.851 and its pairs 0.753 → 0.634). No rule says where in the range a stop may sit or which end is
-        steep. What this cannot tell apart, measured: a passive element that goes taut at one angle (a check strap, a
-        chain without a toe region, single collagen fibres) is a kink, and a toe region taken up over a few degrees fits
-        a hinge as well as its own onset at a few times the noise (docs/validation.md, thirty-first stop)."""
+        clean knees and ankles (thirteenth to twenty-second) the hinge stood at the passive ends' onsets (the twenty-
+        second's knees: 17–36° into the range, 18–61 × the noise), and beside such a misfit a true stop of 3–5 × the
+        noise was named in 15 of 160 trials. The spline takes the smooth misfit and leaves the kink. It is not the only
+        way in: beside a steep passive end in the parametric family (the first generator's ankle stops on Riener's
+        plantarflexion term) the spline bends with the end and takes part of the kink, where the parametric test names
+        it (with this test alone that generator's singles fell 0.895 → 0.851 and its pairs 0.753 → 0.634). No rule says
+        where in the range a stop may sit or which end is steep. What this cannot tell apart, measured: a passive
+        element that goes taut at one angle (a check strap, a chain without a toe region, single collagen fibres) is a
+        kink, and a toe region taken up over a few degrees fits a hinge as well as its own onset at a few times the
+        noise (docs/validation.md, thirty-first stop)."""
         cause, _ = self.fit(model)
         flex_fit = self.flexible(model, searched=True)
         n_flex = effective_n(self.flex.torque - flex_fit.prediction)
@@ -341,11 +342,7 @@ class _Search:
         if ok.sum() < 10:
             return False
         gain = n_flex * math.log(float(np.mean(ref_resid[ok] ** 2)) / float(np.mean(resid[ok] ** 2)))
-        offset = _stop_offset(cause)
-        _, ext, valid = cause.columns(self.flex, flex_fit.nonlinear)
-        peak = float(np.max(np.abs(ext[valid][:, offset]))) * abs(float(flex_fit.coef[flex_fit.n_base + offset]))
-        noise = math.sqrt(flex_fit.rss / max(flex_fit.n, 1))
-        if gain <= STRONG_HELDOUT_GAIN or noise <= 0 or peak / noise < MIN_PEAK_TO_NOISE:
+        if gain <= STRONG_HELDOUT_GAIN or self.stop_peak_to_noise(model, self.flex, flex_fit) < MIN_PEAK_TO_NOISE:
             return False
         if self.stop_taken_up(model, self.flex, flex_fit, n_flex):
             self.stops_not_told_from_smooth.add("+".join(model))
@@ -470,11 +467,14 @@ class _Search:
         ok = np.isfinite(resid) & np.isfinite(flex_resid)
         return bool(ok.sum() >= 10 and float(np.mean(resid[ok] ** 2)) < float(np.mean(flex_resid[ok] ** 2)))
 
-    def stop_peak_to_noise(self, model: tuple[str, ...]) -> float:
-        """The hard stop's largest torque in ``model`` (at the end of the range) over the model's residual RMS."""
+    def stop_peak_to_noise(self, model: tuple[str, ...], signals: Prepared | None = None,
+                           fit: CauseFit | None = None) -> float:
+        """The hard stop's largest torque in ``model`` (at the end of the range) over the model's residual RMS: its
+        parametric fit, or ``fit`` on ``signals`` (the flexible baseline's, :meth:`stop_is_a_kink`)."""
         cause, f = self.fit(model)
+        f = f if fit is None else fit
         offset = _stop_offset(cause)
-        _, ext, valid = cause.columns(self.prep, f.nonlinear)
+        _, ext, valid = cause.columns(self.prep if signals is None else signals, f.nonlinear)
         effect = ext[valid][:, offset] * float(f.coef[f.n_base + offset])
         noise = math.sqrt(f.rss / max(f.n, 1))
         return float(np.max(np.abs(effect))) / noise if noise > 0 and effect.size else 0.0
