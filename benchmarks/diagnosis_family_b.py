@@ -50,6 +50,7 @@ from . import (
     family_u_truth,
     family_v_truth,
     family_w_truth,
+    family_x_truth,
 )
 from .family_b_truth import EFFECTS, FamilyBTrial
 
@@ -59,8 +60,8 @@ from .family_b_truth import EFFECTS, FamilyBTrial
 #: 4b85b78), the seventeenth (``diagnosis_family_q``, run once on 4b85b78) and the eighteenth (``diagnosis_family_r``,
 #: run once on 406c919), the nineteenth (``diagnosis_family_s``, run once on 62d202b), the twentieth
 #: (``diagnosis_family_t``, run once on 9555647), the twenty-first (``diagnosis_family_u``, run once on f319385) and the
-#: twenty-second (``diagnosis_family_v``, run once on c3d0003) and the twenty-third (``diagnosis_family_w``, held out
-#: from the thirty-first stop's change)
+#: twenty-second (``diagnosis_family_v``, run once on c3d0003), the twenty-third (``diagnosis_family_w``, run once on
+#: 4f53208) and the twenty-fourth (``diagnosis_family_x``, held out from the thirty-second stop's change)
 FAMILIES = {"b": (family_b_truth.generate_b, family_b_truth.MAGNITUDE_KEY),
             "c": (family_c_truth.generate_c, family_c_truth.MAGNITUDE_KEY),
             "d": (family_d_truth.generate_d, family_d_truth.MAGNITUDE_KEY),
@@ -82,7 +83,8 @@ FAMILIES = {"b": (family_b_truth.generate_b, family_b_truth.MAGNITUDE_KEY),
             "t": (family_t_truth.generate_t, family_t_truth.MAGNITUDE_KEY),
             "u": (family_u_truth.generate_u, family_u_truth.MAGNITUDE_KEY),
             "v": (family_v_truth.generate_v, family_v_truth.MAGNITUDE_KEY),
-            "w": (family_w_truth.generate_w, family_w_truth.MAGNITUDE_KEY)}
+            "w": (family_w_truth.generate_w, family_w_truth.MAGNITUDE_KEY),
+            "x": (family_x_truth.generate_x, family_x_truth.MAGNITUDE_KEY)}
 
 KINDS = ("afo", "knee", "ankle")
 #: pairs one trial cannot separate (the engine reports them ambiguous): not scored, as in benchmarks/diagnosis
