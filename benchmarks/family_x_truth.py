@@ -22,10 +22,11 @@ generators (only the scoring contract of :mod:`benchmarks.family_b_truth` and th
   0–2° between them, through the same window.
 - Limb: segment parameters drawn per trial (family_scaffold.draw_segments).
 - Causes, each sized so its largest torque is 3–5 × the noise SD (a delay and a compliance by their ranges):
-  * friction: Dahl's model (1968), the friction a rate-independent function of the path,
-    dF/dθ = (F_c/θ_p)·|1 − (F/F_c)·sgn θ̇|^i·sgn(1 − (F/F_c)·sgn θ̇), presliding angle θ_p 0.3–2°, exponent i 0.5–1.5
-    (the ninth family's Bouc–Wen had n 2–4 on a hysteretic state, the seventeenth's presliding was elasto-plastic);
-    magnitude: its mean |F| over the moving samples;
+  * friction: a Coulomb friction along a rough track, its level F₀·(1 + r·ρ(θ)) with ρ a smooth random profile of the
+    angle (Gaussian, correlation length 2–6°, unit RMS, r 0.2–0.4, the level kept ≥ 0.2·F₀), its sign through
+    tanh(θ̇/ε) (ε 0.3–1 °/s; the thirteenth family's level rippled periodically with the angle, the twentieth's rose
+    over one rough spot, the twenty-first's followed a worn gear's period); magnitude: its mean |F| over the moving
+    samples;
   * damping: a dashpot thinned by its own heating: b(t) = b₀·(1 − h·E(t)), E the dissipated power b₀θ̇² through a
     first-order lag of 10–40 s normalised to its largest value, h 0.2–0.45 (the twenty-second family's oil warmed
     steadily with time); magnitude: the least-squares slope of its torque on θ̇;
@@ -56,7 +57,6 @@ Angles in degrees at the edges, SI in the returned arrays.
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np
@@ -153,18 +153,22 @@ def quick_load_slow_release_bends(rng: np.random.Generator, rate: float) -> np.n
     return drive_bandwidth(np.concatenate(parts), rate)
 
 
-def dahl_friction(deg: np.ndarray, presliding_deg: float, exponent: float) -> np.ndarray:
-    """Dahl's friction per unit level along the path ``deg``: dF = (dθ/θ_p)·|1 − F·s|^i·sgn(1 − F·s), s = sgn dθ,
-    from F = 0 (a rate-independent hysteresis; |F| ≤ 1)."""
-    steps = np.diff(np.asarray(deg, dtype=float), prepend=float(deg[0])).tolist()
-    out = np.empty(len(steps))
-    f = 0.0
-    for k, d in enumerate(steps):
-        if d != 0.0:
-            gap = 1.0 - (f if d > 0.0 else -f)
-            f = min(1.0, max(-1.0, f + d / presliding_deg * math.copysign(abs(gap) ** exponent, gap)))
-        out[k] = f
-    return out
+def rough_track_friction(rng: np.random.Generator, deg: np.ndarray, vel_deg_s: np.ndarray, roughness: float,
+                         correlation_deg: float, epsilon_deg_s: float) -> np.ndarray:
+    """A friction per unit mean level along a rough track: (1 + r·ρ(θ))·tanh(θ̇/ε), ρ a Gaussian random profile of
+    the angle with correlation length ``correlation_deg`` (white noise on a 0.1° grid smoothed by a Gaussian of SD
+    ℓ/√2, so its autocorrelation is e^{−Δ²/(2ℓ²)}), scaled to unit RMS over the grid; the level kept ≥ 0.2."""
+    deg = np.asarray(deg, dtype=float)
+    step = 0.1
+    grid = np.arange(float(deg.min()) - 5.0 * correlation_deg, float(deg.max()) + 5.0 * correlation_deg + step, step)
+    sd = correlation_deg / np.sqrt(2.0) / step
+    k = np.arange(-int(np.ceil(4.0 * sd)), int(np.ceil(4.0 * sd)) + 1)
+    kernel = np.exp(-0.5 * (k / sd) ** 2)
+    profile = np.convolve(rng.normal(0.0, 1.0, grid.size), kernel, mode="same")
+    inner = slice(k.size, grid.size - k.size)
+    profile = (profile - profile[inner].mean()) / max(float(profile[inner].std()), 1e-12)
+    level = np.clip(1.0 + roughness * np.interp(deg, grid, profile), 0.2, None)
+    return level * np.tanh(np.asarray(vel_deg_s, dtype=float) / epsilon_deg_s)
 
 
 def heating_dashpot(vel: np.ndarray, rate: float, thinning: float, lag_s: float) -> np.ndarray:
@@ -321,12 +325,12 @@ def generate_x(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Famil
         torque = torque + error
         truth["gravity_error"] = float(np.max(np.abs(error)))
     if "coulomb_friction" in effects:
-        presliding, exponent = float(rng.uniform(0.3, 2.0)), float(rng.uniform(0.5, 1.5))
-        unit = dahl_friction(deg, presliding, exponent)
+        roughness, correlation = float(rng.uniform(0.2, 0.4)), float(rng.uniform(2.0, 6.0))
+        unit = rough_track_friction(rng, deg, np.degrees(vel), roughness, correlation, float(rng.uniform(0.3, 1.0)))
         friction = size() * unit / max(float(np.max(np.abs(unit))), 1e-12)
         torque = torque + friction
         truth["coulomb_friction"] = float(np.mean(np.abs(friction[moving])))
-        details.update(presliding_deg=presliding, dahl_exponent=exponent)
+        details.update(roughness=roughness, correlation_deg=correlation)
     if "viscous_damping" in effects:
         unit = heating_dashpot(vel, rate, float(rng.uniform(0.2, 0.45)), float(rng.uniform(10.0, 40.0)))
         damping = size() * unit / max(float(np.max(np.abs(unit))), 1e-12)
@@ -373,6 +377,6 @@ def generate_x(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Famil
 
 
 __all__ = ["EFFECTS", "MAGNITUDE_KEY", "NOISE_SD_NM", "FamilyBTrial", "bateman_pulse", "cam_spring",
-           "critically_damped_strokes", "dahl_friction", "drive_bandwidth", "eight_chain", "expected_stretch",
+           "critically_damped_strokes", "drive_bandwidth", "eight_chain", "expected_stretch",
            "generate_x", "gripped_pad", "half_gaussian_smoother", "heating_dashpot", "lined_stop", "melting_share",
-           "quick_load_slow_release_bends", "softening_strap_give", "thermal_wander"]
+           "quick_load_slow_release_bends", "rough_track_friction", "softening_strap_give", "thermal_wander"]
