@@ -723,7 +723,10 @@ def burst_cause(shape: str) -> Cause:
 #: the cause with that shape), over which a named cause's magnitude is averaged
 SHAPE_VARIANTS: dict[str, dict[str, Callable[[], Cause]]] = {
     "activation_burst": {shape: functools.partial(burst_cause, shape) for shape in BURST_SHAPES},
-    # a channel's lag: a transport delay, or a filter's (same parameter count; magnitude the group delay)
+    # a channel's lag: a transport delay, or a filter's (same parameter count; magnitude the group delay). Measured
+    # and left out (thirty-second stop, docs/validation.md): the search taking the likeliest of the two (LAW_VARIANTS):
+    # development delay trials right 61 → 63 of 176 with three new spurious stops; the low-pass holds an orthosis's
+    # angle at the cut, so its filter remembers torque the spring does not have
     "time_delay": {law: functools.partial(delay_cause, law) for law in ("pure", "first-order lag")},
 }
 
