@@ -57,6 +57,7 @@ Angles in degrees at the edges, SI in the returned arrays.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -249,7 +250,7 @@ def _elastic(kind: str, deg: np.ndarray, fixed: dict[str, float], c: dict[str, A
             + c["linear"] * (deg - 0.5 * (c["lo"] + c["hi"])))
 
 
-def _behind_strap(deg: np.ndarray, give: Any) -> np.ndarray:
+def _behind_strap(deg: np.ndarray, give: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
     """The joint's angle j (deg) behind a strap: j + give(j) = ``deg`` at each sample, by bisection (the give grows
     with the joint's torque, which grows with its angle, so the left side rises with j)."""
     low, high = deg - 60.0, deg + 60.0

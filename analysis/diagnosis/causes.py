@@ -81,8 +81,9 @@ END_EXP_RATES_PER_RAD: dict[str, tuple[tuple[float, ...], tuple[float, ...]]] = 
     "ankle": ((), (3.0, 9.0)),
 }
 
-#: the rates (1/rad) of the smooth curve an orthosis's stop competes with at its end (engine._Search.smooth_rival; a
-#: joint's stop is judged by engine._Search.stop_is_a_kink):
+#: the rates (1/rad) of the smooth curve a stop competes with at its end on the parametric baseline
+#: (engine._Search.smooth_rival; a joint's stop that loses there may still be named as a kink,
+#: engine._Search.stop_is_a_kink):
 #: what passive tissue does. Published passive joint moments' exponential terms reach 0.195 /° = 11.2 /rad
 #: (Riener & Edrich 1999, ankle dorsiflexion; knee extension 0.150 /° = 8.6 /rad); the range runs to 20 /rad
 #: (an e-folding width of 2.9°) with that margin. A stiffening steeper than any passive tissue shows is a stop
@@ -445,7 +446,7 @@ def _stop_grid(prep: Prepared) -> list[np.ndarray]:
 
     A joint's stop may sit anywhere in its range (40 angles; in the upper half it resists the top of the
     range, in the lower half the bottom); what tells it from a steeper passive end is the data
-    (engine._Search.stop_is_a_kink; an orthosis's engine._Search.stop_beats_smooth_rival), not where it sits. The
+    (engine._Search.stop_beats_smooth_rival; a joint's also engine._Search.stop_is_a_kink), not where it sits. The
     orthosis's stop is its dorsiflexion hinge stop, in the upper half of the bend (its lower end is the spring's
     engagement, cut). Every grid keeps 2 % of the range clear of either end."""
     span = prep.hi - prep.lo

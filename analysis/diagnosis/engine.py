@@ -21,10 +21,10 @@ Selection, in order:
    t statistic of its stiffness past a look-elsewhere-corrected level (:data:`LOCAL_STOP_T`) with
    held-out blocks predicted no worse (an orthosis's stop also at a
    lower t with held-out blocks predicted clearly better: :data:`AFO_STOP_T`), and only
-   when it predicts held-out blocks better than a smooth curve at its end of the range (an orthosis's spring off the
-   quadratic: ``_Search.stop_beats_smooth_rival``). A joint's stop (knee, ankle) is also named, where those tests
-   refuse it, as a kink that a free curve in angle cannot follow, judged on the flexible baseline
-   (``_Search.stop_is_a_kink``). A
+   when it predicts held-out blocks better than a smooth curve at its end of the range (a joint's steeper passive term,
+   an orthosis's spring off the quadratic: ``_Search.stop_beats_smooth_rival``). A joint's stop (knee, ankle) is
+   also named, where those tests refuse it, as a kink that a free curve in angle cannot follow, judged on the flexible
+   baseline (``_Search.stop_is_a_kink``). A
    cause that is not a function of angle alone must also lower the criterion against the *flexible* baseline (a
    spline in angle), and so must a series compliance, which in a slow trial only reshapes the curve in angle;
 5. a cause whose effect the baseline can mimic (R² > ``max_absorbed_r2`` of its effect direction
@@ -654,10 +654,13 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
             search.flexible(unsure, searched=True)
         hint = AFO_STOP_OR_SPRING_HINT if prep.trial.kind == "afo" else STOP_OR_STEEPER_END_HINT
         if prep.trial.kind in ("knee", "ankle"):
-            notes.append(f"the torque stiffens from about {stop_fit.params['stop_angle_deg']:.0f}° in a way a free curve "
-                         "in angle does not follow: a stop, or a passive term taken up over a few degrees (a toe "
-                         "region, which fits it clearly better here); this trial cannot tell them apart, so neither "
-                         f"is named; to tell them apart: {hint}")
+            # the stop was left unsure by either test: a smooth stiffening at its end predicted held-out blocks as
+            # well (the parametric test), or a rounded engagement or a toe's onset fitted it clearly better on the free
+            # curve in angle (stop_is_a_kink); the opening words are the orthosis's note's, which reports count on
+            notes.append(f"the end of the range stiffens beyond the baseline's passive curve from about "
+                         f"{stop_fit.params['stop_angle_deg']:.0f}°: a stop, or a passive term steeper than the "
+                         "baseline's or taken up over a few degrees (a toe region); this trial cannot tell them apart, so "
+                         f"neither is named; to tell them apart: {hint}")
         else:
             curve = "the spring's curve" if prep.trial.kind == "afo" else "a passive term"
             notes.append(f"the end of the range stiffens beyond the baseline's passive curve from about "
