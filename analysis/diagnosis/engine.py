@@ -9,20 +9,14 @@ Selection, in order:
    splits would flatter every model). The held-out gain of a larger model over a smaller one is
    n_eff · ln(held-out MSE ratio). A transient cause (a burst) cannot be predicted from other
    blocks, so for it only the criterion decides, at half the threshold;
-3. criterion: Whittle's likelihood with the BIC penalty (:func:`evidence.whittle_delta_bic`): each
-   frequency of the residual weighed by the *larger* model's residual spectrum there, so a slow misfit
-   (a passive curve outside the baseline's family, a drift no law predicts) is the noise a slow cause
-   is judged against and not a fast one's (a burst, a friction at each reversal). It replaced BIC at
-   one effective sample size n_eff = n / τ for the whole residual, under which a slow misfit drowned
-   every second cause beside it (thirty-third stop, docs/validation.md); n_eff still scales held-out
-   gains and standard errors. A cause must also be material: its effect on the predicted torque at
-   its largest at least :data:`MIN_PEAK_TO_NOISE` × the larger model's residual RMS (a stop by its
-   torque at the end of the range);
+3. criterion: BIC with the effective sample size n_eff = n / τ, τ the integrated autocorrelation
+   time of the *larger* model's own residual at each step (neighbouring samples are not
+   independent evidence, and leftover structure of an unmodelled effect must not count as it);
 4. a cause is accepted against a reference model when it lowers the criterion by more than
    ``min_delta_bic`` and its held-out gain exceeds ``min_heldout_gain`` — or, by strong held-out
    evidence alone, when the gain exceeds :data:`STRONG_HELDOUT_GAIN` while ΔBIC stays below
    :data:`MAX_DELTA_BIC_WITH_STRONG_HELDOUT` (a local stop); a burst alone also when it lowers the criterion
-   against the flexible baseline, its timing searched again there (a function of time,
+   against the flexible baseline at that fit's own n_eff, its timing searched again there (a function of time,
    which a free curve in angle cannot mimic where angles are revisited); a hard stop also by its own test, the
    t statistic of its stiffness past a look-elsewhere-corrected level (:data:`LOCAL_STOP_T`) with
    held-out blocks predicted no worse (an orthosis's stop also at a
@@ -37,11 +31,11 @@ Selection, in order:
    on the baseline basis; on the flexible baseline's basis for a cause that must also beat that baseline) is not
    testable in this trial: it is never named, and the report says what the trial would need;
 6. forward selection: the accepted single cause with the lowest criterion wins, every accepted cause
-   ranked at one noise model (the best-fitting one's n_eff; see :func:`diagnose`); then every other
+   judged at one noise model (the best-fitting one's n_eff; see :func:`diagnose`); then every other
    cause is tried beside it and joins when it passes the same tests against the winner alone (and
    the winner stays needed beside it). Then the pairs of the four best-fitting causes are tried
    whole, each cause tested given the other, and replace the forward step's model when the
-   criterion prefers them (by ``min_delta_bic`` over a single cause
+   criterion at the pair's own noise model prefers them (by ``min_delta_bic`` over a single cause
    or the baseline): one effect can hide another, or lead the first step astray;
 7. accepted causes whose fitted effects are nearly the same curve (correlation > 0.9) within
    ``ambiguity_bic`` of the winner, or whose RMSE is within ``ambiguity_rmse`` (5 %) of it, make
@@ -91,7 +85,6 @@ from .evidence import (
     magnitude_variants,
     parameter_se,
     systematic_regions,
-    whittle_delta_bic,
 )
 from .fitting import CauseFit, absorbed_by_baseline, fit_cause
 from .policy import (
@@ -134,7 +127,7 @@ class _Evidence:
     n_eff: float
     heldout_rmse: float
     accepted: bool
-    #: a burst's criterion on the flexible baseline, its timing searched there (NaN: not judged there)
+    #: a burst's ΔBIC on the flexible baseline at that fit's own n_eff (NaN: not judged there)
     flexible_own_delta_bic: float = float("nan")
 
 
@@ -229,7 +222,7 @@ class _Search:
         _, mf = self.fit(model)
         _, rf = self.fit(ref)
         n_eff = effective_n(self.prep.torque - mf.prediction)
-        d = whittle_delta_bic(self.prep.torque, mf, rf)
+        d = bic(mf, n_eff) - bic(rf, n_eff)
         # a drift is a function of time: a left-out first or last block asks a cubic in time to extrapolate,
         # which it cannot (a settling or wandering offset read 1.26× worse held out at ΔBIC −38); it is judged
         # on the blocks it interpolates, the reference on the same blocks
@@ -241,7 +234,7 @@ class _Search:
         gain = n_eff * math.log(ref_ho ** 2 / ho ** 2) if math.isfinite(ho) and ho > 0 else float("nan")
         d_flex = float("nan")
         if added.hysteretic:
-            d_flex = whittle_delta_bic(self.flex.torque, self.flexible(model), self.flexible(ref))
+            d_flex = bic(self.flexible(model), n_eff) - bic(self.flexible(ref), n_eff)
         # a transient (a burst) cannot be checked on held-out blocks; its threshold is half the others'
         # (its three parameters already cost 3 ln n_eff, above the largest noise excursion a scan over
         # every start and duration finds: about 2 ln(windows) ≈ 11 on a minute of data)
@@ -250,8 +243,8 @@ class _Search:
         # flexible baseline) cannot take its place, and it takes the passive curve's misfit out of the residual, which
         # the parametric baseline leaves as slow structure that shrinks n_eff and drowns the burst (a passive end
         # outside the baseline's family: bursts of 3–5× the noise at ΔBIC −2 to +7 on the parametric baseline,
-        # −166 to −646 on the flexible one at its own fit's n_eff; figures of the criterion before Whittle's). So a burst
-        # alone is also named when it lowers the criterion against the flexible baseline. Not beside another cause: there the
+        # −166 to −646 on the flexible one at its own fit's n_eff). So a burst alone is also named when it lowers the
+        # criterion against the flexible baseline at that fit's own n_eff. Not beside another cause: there the
         # flexible residual holds the other cause's law mismatch at every reversal, which a burst takes a piece of
         # (development, 2nd–10th families, seeds 800000–800002: beside a single friction, damping or drift 7
         # spurious bursts). And, as a stop, only when material: its peak at least MIN_PEAK_TO_NOISE × the flexible
@@ -266,8 +259,9 @@ class _Search:
         of_time, d_own = False, float("nan")
         if added.name == "activation_burst" and ref == ("none",):
             flex_model = self.flexible(model, searched=True)
+            n_flex = effective_n(self.flex.torque - flex_model.prediction)
             peak = abs(flex_model.params["burst_amplitude_Nm"]) / math.sqrt(flex_model.rss / max(flex_model.n, 1))
-            d_own = whittle_delta_bic(self.flex.torque, flex_model, self.flexible(ref))
+            d_own = bic(flex_model, n_flex) - bic(self.flexible(ref), n_flex)
             of_time = d_own < -need and peak >= MIN_PEAK_TO_NOISE
         # a second way in, by strong out-of-sample evidence: held-out blocks predicted far better
         # (gain > STRONG_HELDOUT_GAIN) while the in-sample criterion does not speak against it. A
@@ -285,8 +279,7 @@ class _Search:
             local = gain > AFO_STOP_MIN_HELDOUT_GAIN and d < AFO_STOP_MAX_DELTA_BIC \
                 and self.stop_t(model, n_eff) > AFO_STOP_T
         ok = (((d < -need and (added.transient or gain > self.min_heldout_gain)) or strong or local)
-              and (not added.hysteretic or d_flex < -need)
-              and (added.name == "hard_stop" or self.effect_peak_to_noise(model, ref) >= MIN_PEAK_TO_NOISE)) or of_time
+              and (not added.hysteretic or d_flex < -need)) or of_time
         if ok and added.name == "inertia":
             # a moving mass adds inertia; an error may take some of the known limb's and arm's away, never more
             # than all of it: a total below zero is no mass (a lagging torque channel fits as one: the demo's
@@ -315,7 +308,7 @@ class _Search:
         curve in angle cannot follow: judged on the flexible baseline (the parametric one plus a cubic spline in angle),
         its angle searched there, it must
 
-        - lower the criterion (:func:`evidence.whittle_delta_bic`) against ``ref`` on that baseline by ``min_delta_bic``;
+        - lower the criterion against ``ref`` on that baseline by ``min_delta_bic`` at that fit's own n_eff;
         - predict held-out blocks better than ``ref`` there by strong held-out evidence (n_eff · ln of their MSE ratio
           > :data:`STRONG_HELDOUT_GAIN`: a stop acts over a few degrees of every pass);
         - reach :data:`MIN_PEAK_TO_NOISE` × the fit's residual RMS at its deepest;
@@ -341,7 +334,7 @@ class _Search:
         cause, _ = self.fit(model)
         flex_fit = self.flexible(model, searched=True)
         n_flex = effective_n(self.flex.torque - flex_fit.prediction)
-        if not whittle_delta_bic(self.flex.torque, flex_fit, self.flexible(ref)) < -self.min_delta_bic:
+        if bic(flex_fit, n_flex) - bic(self.flexible(ref), n_flex) >= -self.min_delta_bic:
             return False
         resid = heldout_residuals(self.flex, cause, self.folds, flex_fit.nonlinear, self.folds_of(model)[1])
         ref_resid = self.heldout_residuals(ref, flexible=True, folds_from=model)
@@ -474,22 +467,6 @@ class _Search:
         ok = np.isfinite(resid) & np.isfinite(flex_resid)
         return bool(ok.sum() >= 10 and float(np.mean(resid[ok] ** 2)) < float(np.mean(flex_resid[ok] ** 2)))
 
-    def effect_peak_to_noise(self, model: tuple[str, ...], ref: tuple[str, ...]) -> float:
-        """What adding a cause to ``ref`` changes in the predicted torque, at its largest (about its median), over the
-        larger model's residual RMS: a cause is named when its effect is a material part of the torque, not only a
-        significant one. Whittle's criterion (:func:`evidence.whittle_delta_bic`) weighs each frequency against the
-        residual's own spectrum there, so at hundreds of samples per second a cause far below the misfit it sits in
-        (a damping taking a thin share of a clean orthosis's 8 × noise misfit at 10–130 Hz, where that residual's
-        spectrum is low) is significant; the same rule as a stop's and a burst's (:data:`policy.MIN_PEAK_TO_NOISE`)."""
-        _, mf = self.fit(model)
-        _, rf = self.fit(ref)
-        effect = mf.prediction - rf.prediction
-        effect = effect[np.isfinite(effect)]
-        noise = math.sqrt(mf.rss / max(mf.n, 1))
-        if not effect.size or noise <= 0:
-            return 0.0
-        return float(np.max(np.abs(effect - np.median(effect)))) / noise
-
     def stop_peak_to_noise(self, model: tuple[str, ...], signals: Prepared | None = None,
                            fit: CauseFit | None = None) -> float:
         """The hard stop's largest torque in ``model`` (at the end of the range) over the model's residual RMS: its
@@ -604,7 +581,7 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
                                + ("" if ev is None or not math.isfinite(ev.flexible_delta_bic) else
                                   f" ΔBIC {ev.flexible_delta_bic:.1f} against a free curve in angle")
                                + ("" if ev is None or not math.isfinite(ev.flexible_own_delta_bic) else
-                                  f" ({ev.flexible_own_delta_bic:.1f} with its timing searched there)")))
+                                  f" ({ev.flexible_own_delta_bic:.1f} at that fit's own n_eff)")))
     accepted = [n for n in single if single[n].accepted]
     if accepted:
         # rank at one noise model for all: each cause's own residual gives its own n_eff, and a cause that
@@ -643,7 +620,8 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
         if (a in ARGUMENT_CAUSES and b in ARGUMENT_CAUSES) or {a, b} == set(chosen):
             continue
         _, pf = search.fit((a, b))
-        d = whittle_delta_bic(prep.torque, pf, ref_fit)  # the criterion evidence() judges the pair by
+        pair_n_eff = effective_n(prep.torque - pf.prediction)  # the n_eff evidence() judges the pair at
+        d = bic(pf, pair_n_eff) - bic(ref_fit, pair_n_eff)
         if d >= (0.0 if len(chosen) == 2 else -min_delta_bic) or (best_pair is not None and d >= best_pair[0]):
             continue  # the criterion alone rules it out: its held-out folds are not needed
         if search.evidence((a, b), (b,)).accepted and search.evidence((a, b), (a,)).accepted:
@@ -737,7 +715,7 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
         se.pop("stop_angle_deg", None)
     systematic = systematic_regions(prep, prep.torque - base.prediction, n_eff)
     ho_final = search.heldout(chosen) if chosen and not final_cause.transient else (base_ho if not chosen else float("nan"))
-    delta = whittle_delta_bic(prep.torque, final, base) if chosen else 0.0
+    delta = bic(final, n_eff) - bic(base, n_eff) if chosen else 0.0
     return Diagnosis(trial.kind, winner, params, math.sqrt(base.rss / base.n), math.sqrt(final.rss / final.n), base_ho,
                      ho_final, ho_final / base_ho if chosen and math.isfinite(ho_final) and base_ho > 0 else
                      (1.0 if not chosen else float("nan")), delta, n_eff, cands, ambiguous, separate, notes, fits, prep,

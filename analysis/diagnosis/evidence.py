@@ -361,52 +361,5 @@ def effective_n(residual: np.ndarray) -> float:
     return float(min(n, max(10.0, n / max(tau, 1.0))))
 
 
-#: half-width (frequency bins) of the periodogram smoothing that estimates a residual's spectrum for
-#: :func:`whittle_delta_bic`
-WHITTLE_SMOOTH_BINS = 8
-
-
-def residual_spectrum(residual: np.ndarray, half_width: int = WHITTLE_SMOOTH_BINS) -> np.ndarray:
-    """The residual's spectral density (N²·m² per Fourier frequency, f = 1 … n/2): its periodogram averaged over
-    ± ``half_width`` bins (Daniell's estimate; fewer bins at the ends)."""
-    n = residual.size
-    periodogram = np.abs(np.fft.rfft(residual))[1:] ** 2 / max(n, 1)
-    kernel = np.ones(2 * half_width + 1)
-    return np.convolve(periodogram, kernel, mode="same") / np.convolve(np.ones_like(periodogram), kernel, mode="same")
-
-
-def whittle_delta_bic(torque: np.ndarray, larger: CauseFit, smaller: CauseFit) -> float:
-    """The criterion of the ``larger`` model minus the ``smaller`` one's (negative: the larger is better): −2 × the
-    difference of their Whittle log-likelihoods, each residual's spectrum estimated from itself
-    (:func:`residual_spectrum`), plus the BIC penalty ln n for each added parameter, n the samples both models predict
-    (residuals set to zero elsewhere in both).
-
-    Whittle's −2 log L is Σ_f [ln S(f) + I(f)/S(f)] over the Fourier frequencies; with S the periodogram I smoothed
-    locally the second term is about one per frequency for either model, so the difference is 2 Σ_f ln(S_large/S_small):
-    each band's residual power compared with itself. On white noise this is n ln(RSS_large/RSS_small), the Gaussian
-    criterion. Beside a slow misfit (a passive curve outside the baseline's family, a drift no law predicts) a fast
-    cause (a burst, a friction at each reversal) is judged by the power it removes from its own bands, where the slow
-    misfit is not. With one effective sample size for the whole residual (:func:`bic` at :func:`effective_n`) the slow
-    misfit's correlation time counted against every cause beside it: on the 21st and 23rd families' knee and ankle
-    trials the wrong verdicts had a median n / n_eff of 142 against 26 for the right ones. A ratio of the two
-    models' own spectra, not a weighting by one of them: a cause whose least-squares fit moves a little power into a
-    band where the larger model's residual is otherwise quiet is charged that band's relative change, not its power
-    over that quiet band's level (with the larger model's spectrum as the weight, an inertia added to a delay read +123
-    though it lowers the residual sum of squares, spent sixteenth-family knee with both hidden, seed 300). A line far
-    above its band's noise is credited the log of its band's power ratio, less than its Gaussian ΔRSS/σ²
-    (tests/analysis/test_diagnosis_whittle.py)."""
-    r_large = torque - larger.prediction
-    r_small = torque - smaller.prediction
-    ok = np.isfinite(r_large) & np.isfinite(r_small)
-    n = int(ok.sum())
-    if n < 4 * WHITTLE_SMOOTH_BINS:
-        return float("nan")
-    r_large = np.where(ok, r_large - r_large[ok].mean(), 0.0)
-    r_small = np.where(ok, r_small - r_small[ok].mean(), 0.0)
-    s_large = np.maximum(residual_spectrum(r_large), 1e-300)
-    s_small = np.maximum(residual_spectrum(r_small), 1e-300)
-    return float(2.0 * np.sum(np.log(s_large / s_small)) + (larger.n_params - smaller.n_params) * math.log(n))
-
-
 def bic(fit: CauseFit, n_eff: float) -> float:
     return n_eff * math.log(max(fit.rss / max(fit.n, 1), 1e-300)) + fit.n_params * math.log(n_eff)

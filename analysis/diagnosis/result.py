@@ -85,8 +85,7 @@ class Diagnosis:
             lines.append(f"  baseline systematically off at: {regions}" + (" …" if len(self.systematic) > 6 else ""))
         lines.append(f"  RMSE baseline {self.baseline_rmse_nm:.3f} N·m → extended {self.extended_rmse_nm:.3f} N·m; "
                      f"held-out {self.baseline_heldout_rmse_nm:.3f} → {self.extended_heldout_rmse_nm:.3f} "
-                     f"(ratio {self.heldout_rmse_ratio:.2f}); ΔBIC {self.delta_bic:.1f} (Whittle's); "
-                     f"{self.effective_n:.0f} effective samples")
+                     f"(ratio {self.heldout_rmse_ratio:.2f}); ΔBIC {self.delta_bic:.1f} at n_eff {self.effective_n:.0f}")
         for a in self.also:
             lines.append(f"  and also: {a['cause']} " + ", ".join(f"{k} = {v:.4g}" for k, v in a["parameters"].items())
                          + f" (RMSE {a['rmse_Nm']:.3f} N·m, ΔBIC {a['delta_bic_vs_single']:.1f} against the first alone)")
@@ -95,7 +94,7 @@ class Diagnosis:
         for n in self.notes:
             lines.append(f"  note: {n}")
         lines.append(f"  {'candidate':<20}{'RMSE':>8}{'held-out':>10}{'ratio':>7}{'ΔBIC':>10}  accepted")
-        for c in sorted(self.candidates, key=lambda c: c.delta_bic if math.isfinite(c.delta_bic) else math.inf):
+        for c in sorted(self.candidates, key=lambda c: c.bic):
             lines.append(f"  {c.cause:<20}{c.rmse_nm:>8.3f}{c.heldout_rmse_nm:>10.3f}{c.heldout_ratio:>7.2f}"
                          f"{c.delta_bic:>10.1f}  {'yes' if c.accepted else ''} {c.note}")
         return "\n".join(lines)

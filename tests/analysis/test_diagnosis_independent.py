@@ -421,7 +421,7 @@ def test_a_burst_beside_a_passive_curve_outside_the_baselines_family_is_named_fr
     strokes whose passive curve no parametric baseline holds (a fibre-recruitment toe, a tabulated stiffness): the
     parametric fit leaves slow structure that shrinks the effective sample size, and the burst's criterion there was
     ΔBIC −2 to +7. On the flexible baseline (a free curve in angle, which cannot mimic a function of time where the
-    strokes revisit their angles), its timing searched there, it is decisive. Fresh seeds 830000–830005 of both families
+    strokes revisit their angles) at that fit's own n_eff it is decisive. Fresh seeds 830000–830005 of both families
     (24 trials): 5 named alone before, 13 after. These four were missed before: each named alone, within 15 %, its
     interval holding the truth."""
     from benchmarks.diagnosis_family_b import _trial
@@ -437,7 +437,7 @@ def test_a_burst_beside_a_passive_curve_outside_the_baselines_family_is_named_fr
         assert abs(fitted / truth - 1.0) < 0.15, (kind, seed, fitted, truth)
         assert abs(fitted - truth) <= 1.96 * d.parameters_se["burst_amplitude_Nm"], (kind, seed, fitted, truth)
         note = next(c.note for c in d.candidates if c.cause == "activation_burst")
-        assert "with its timing searched there" in note, note  # the report says which criterion named it
+        assert "at that fit's own n_eff" in note, note  # the report says which criterion named it
 
 
 def test_a_passive_end_outside_the_baselines_family_is_not_read_as_a_series_compliance() -> None:
