@@ -76,6 +76,7 @@ from .causes import (
 from .data import DiagnosisTrial
 from .evidence import (
     average_variants,
+    averaged_magnitude,
     bic,
     effective_n,
     heldout_block_s,
@@ -694,13 +695,12 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
         variants = magnitude_variants(prep, name, math.radians(final.params.get("stop_angle_deg", math.nan)))
         # the magnitude: the variants' weighted mean; its variance: within plus between the variants
         fitted = average_variants(variants, chosen, n_eff, library)
-        mean = sum(o.weight * o.params[key] for o in fitted)
-        var = sum(o.weight * (o.se.get(key, math.nan) ** 2 + (o.params[key] - mean) ** 2) for o in fitted)
+        mean, mean_se = averaged_magnitude(fitted, key)
         likeliest = max(fitted, key=lambda o: o.weight)
         holder = params if key in params else also[0]["parameters"]
         holder.update({k: v for k, v in likeliest.params.items() if k in holder}, **{key: mean})
         se.update({k: v for k, v in likeliest.se.items() if k in holder},
-                  **{key: math.sqrt(var) if math.isfinite(var) else math.nan})
+                  **{key: mean_se})
         notes.append(f"{name}: {key} averaged over " + ", ".join(f"{o.label} ({o.weight:.2f})" for o in fitted)
                      + f"; its other parameters from the likeliest ({likeliest.label})")
     if frozenset(chosen) in search.stops_named_as_kinks:

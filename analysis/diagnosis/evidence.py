@@ -265,6 +265,27 @@ def average_variants(variants: list[tuple[str, Prepared, dict[str, Cause]]], nam
     return out
 
 
+def averaged_magnitude(fitted: list[VariantFit], key: str) -> tuple[float, float]:
+    """The magnitude ``key`` over the variants ``fitted`` (:func:`average_variants`): its BIC-weighted mean, and its
+    standard error from the weighted within-variant variance plus the spread between the variants.
+
+    The spread is the larger of the BIC-weighted one and the variants' plain mean square about that mean. The BIC
+    weights are posterior probabilities under the assumption that one variant is the data's law; where none is (a
+    shape outside the library), they concentrate on the least wrong variant, which says nothing about whether its
+    magnitude is the right one. The unweighted spread is what the modelling choices the data cannot be trusted to
+    settle leave open. Development, spent families 14, 16, 18, 20, 22, 23 (seeds 100–103, 200, 300; 345 named
+    magnitudes): truth within 1.96 standard errors 0.777 → 0.904, within one 0.612 → 0.745; median width × 1.28,
+    90th percentile × 5.1; the point estimates unchanged (the weighted mean held 0.739 within 15 %, the plain mean
+    0.716). The variants agreeing, the interval is the weighted one.
+    """
+    mean = sum(o.weight * o.params[key] for o in fitted)
+    within = sum(o.weight * o.se.get(key, math.nan) ** 2 for o in fitted)
+    weighted = sum(o.weight * (o.params[key] - mean) ** 2 for o in fitted)
+    plain = sum((o.params[key] - mean) ** 2 for o in fitted) / max(len(fitted), 1)
+    var = within + max(weighted, plain)
+    return mean, (math.sqrt(var) if math.isfinite(var) else math.nan)
+
+
 def systematic_regions(prep: Prepared, residual: np.ndarray, n_eff: float, bins: int = 10) -> list[dict[str, Any]]:
     """Angle bins (per branch: loading, unloading, still) where the mean residual exceeds 3 standard errors."""
     ok = np.isfinite(residual)
