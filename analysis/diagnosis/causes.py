@@ -82,8 +82,8 @@ END_EXP_RATES_PER_RAD: dict[str, tuple[tuple[float, ...], tuple[float, ...]]] = 
 }
 
 #: the rates (1/rad) of the smooth curve a stop competes with at its end on the parametric baseline
-#: (engine._Search.smooth_rival; a joint's stop that loses there may still be named as a kink,
-#: engine._Search.stop_is_a_kink):
+#: (engine._Search.smooth_rival; a joint's stop that loses there but is a kink a free curve in angle cannot follow is
+#: said, not named: engine._Search.stop_is_a_kink):
 #: what passive tissue does. Published passive joint moments' exponential terms reach 0.195 /° = 11.2 /rad
 #: (Riener & Edrich 1999, ankle dorsiflexion; knee extension 0.150 /° = 8.6 /rad); the range runs to 20 /rad
 #: (an e-folding width of 2.9°) with that margin. A stiffening steeper than any passive tissue shows is a stop
@@ -414,7 +414,7 @@ def _rounded_stop_column(prep: Prepared, stop: float, width: float) -> np.ndarra
 
 def rounded_stop_cause() -> Cause:
     """The hard stop with a rounded engagement (its angle and width searched): the rival a stop must not lose to by
-    the criterion to be named a kink (engine._Search.stop_is_a_kink)."""
+    the criterion to be said a kink (engine._Search.stop_is_a_kink) or named (engine._Search.stop_taken_up)."""
     return Cause("hard_stop", "added stiffness past a stop angle, engaging over a width",
                  ("afo", "knee", "ankle", "replica"),
                  lambda p, nl: _plain(p, _rounded_stop_column(p, nl[0], nl[1])),
@@ -429,7 +429,7 @@ def toe_onset_cause() -> Cause:
     """A passive element whose stiffness starts rising at an angle (a toe region's onset: the torque ∝ δ², δ the
     penetration past it at :func:`_stop_column`'s end and sign): slope continuous, curvature not. A contact's
     stiffness jumps where it is met (a kink in the torque); recruited tissue's rises from zero. The rival a stop must
-    not lose to by the criterion to be named a kink (engine._Search.stop_is_a_kink)."""
+    not lose to by the criterion to be said a kink (engine._Search.stop_is_a_kink) or named (engine._Search.stop_taken_up)."""
     def column(p: Prepared, stop: float) -> np.ndarray:
         pen = _stop_column(p, stop)
         return np.sign(pen) * pen * pen

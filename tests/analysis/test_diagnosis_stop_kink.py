@@ -1,5 +1,8 @@
-"""A joint's stop is also named as a kink a free curve in angle cannot follow (engine._Search.stop_is_a_kink): found at its angle
-beside a passive end outside the parametric baseline's family, and not named where the end is taken up over degrees.
+"""A joint's stop the parametric tests refuse is said as a kink a free curve in angle cannot follow
+(engine._Search.stop_is_a_kink): the report says the end stiffens at its angle beside a passive end outside the
+parametric baseline's family, and names neither a stop nor a passive term (a passive end engaging within a few degrees
+is a kink too: named, the kink was a stop in 17 and not one in 27 of 686 development trials; docs/validation.md,
+thirty-fourth stop); no stop is named where the end is taken up over degrees.
 
 The trials are written here (not by analysis.diagnosis.synthetic): knee sweeps whose extension end is a passive element
 engaging partway into the range, rounded over its onset (a softplus of the angle past it, 4–6°), and whose flexion end
@@ -7,6 +10,8 @@ is an exponential; with a hinge stop at a drawn angle in the last fifth of the f
 """
 
 from __future__ import annotations
+
+import re
 
 import numpy as np
 import pytest
@@ -44,17 +49,19 @@ def _stops(d: Diagnosis) -> bool:
     return d.cause == "hard_stop" or any(a["cause"] == "hard_stop" for a in d.also)
 
 
-def test_stops_beside_a_passive_end_outside_the_baseline_are_found_at_their_angles() -> None:
-    """At 6–9 × the noise and 8–14° from the range's end, half of them at least (measured: 4 of 8, the four missed within
-    11° of the end, where the flexion end's exponential and the spline take part of the kink), each at its angle."""
-    found = 0
+def test_stops_beside_a_passive_end_outside_the_baseline_are_said_at_their_angles_and_not_named() -> None:
+    """At 6–9 × the noise and 8–14° from the range's end: none named, and the end said to stiffen from within 3° of the
+    stop in most (measured: 7 of 8 within 1°, the eighth said at the passive end's onset, 21°; when the kink was named,
+    4 of 8 were named at their angles)."""
+    said = 0
     for seed in range(8):
         trial, at = _knee_sweeps(seed, stop=True)
         d = diagnose(trial)
-        if _stops(d):
-            assert d.cause == "hard_stop" and abs(d.parameters["stop_angle_deg"] - at) < 3.0, (at, d.parameters)
-            found += 1
-    assert found >= 4
+        assert not _stops(d), (seed, d.text())
+        angles = [float(m.group(1)) for n in d.notes
+                  for m in [re.search(r"stiffens beyond the baseline's passive curve from about (-?\d+)°", n)] if m]
+        said += any(abs(a - at) < 3.0 for a in angles)
+    assert said >= 6, said
 
 
 def test_the_same_passive_end_alone_and_a_toe_region_name_no_stop() -> None:
