@@ -147,6 +147,18 @@ def limb_load(kind: str, rad: np.ndarray, fixed: dict[str, float], mass: float, 
     return LimbLoad(amplitude * np.cos(psi), m_f * (r_f**2 + (seg["foot_gyration"] * foot) ** 2), amplitude, psi, 0.0, m_f)
 
 
+def behind_strap(deg: np.ndarray, give: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
+    """The joint's angle j (deg) behind a strap or cable: j + give(j) = ``deg`` at each sample, by bisection (the give
+    grows with the joint's torque, which grows with its angle, so the left side rises with j; the twenty-fourth and
+    twenty-fifth families)."""
+    low, high = deg - 60.0, deg + 60.0
+    for _ in range(60):
+        mid = 0.5 * (low + high)
+        above = mid + give(mid) > deg
+        high, low = np.where(above, mid, high), np.where(above, low, mid)
+    return 0.5 * (low + high)
+
+
 def kinematics(deg: np.ndarray, rate: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(time s, angle rad, angular velocity rad/s, angular acceleration rad/s²) of an angle (degrees) sampled at
     ``rate`` Hz (central differences)."""
@@ -156,5 +168,5 @@ def kinematics(deg: np.ndarray, rate: float) -> tuple[np.ndarray, np.ndarray, np
     return t, rad, vel, np.gradient(vel, t)
 
 
-__all__ = ["GRAVITY", "LimbLoad", "coupled_onsets", "damage_recording", "draw_segments", "draw_subject", "kinematics",
-           "limb_load", "protocol_set_up", "segment_direction", "trial_rng"]
+__all__ = ["GRAVITY", "LimbLoad", "behind_strap", "coupled_onsets", "damage_recording", "draw_segments", "draw_subject",
+           "kinematics", "limb_load", "protocol_set_up", "segment_direction", "trial_rng"]

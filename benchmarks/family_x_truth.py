@@ -57,7 +57,6 @@ Angles in degrees at the edges, SI in the returned arrays.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -69,6 +68,7 @@ from scipy.special import ndtr
 from .family_b_truth import EFFECTS, MAGNITUDE_KEY, FamilyBTrial
 from .family_scaffold import (
     GRAVITY,
+    behind_strap,
     coupled_onsets,
     damage_recording,
     draw_segments,
@@ -250,17 +250,6 @@ def _elastic(kind: str, deg: np.ndarray, fixed: dict[str, float], c: dict[str, A
             + c["linear"] * (deg - 0.5 * (c["lo"] + c["hi"])))
 
 
-def _behind_strap(deg: np.ndarray, give: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
-    """The joint's angle j (deg) behind a strap: j + give(j) = ``deg`` at each sample, by bisection (the give grows
-    with the joint's torque, which grows with its angle, so the left side rises with j)."""
-    low, high = deg - 60.0, deg + 60.0
-    for _ in range(60):
-        mid = 0.5 * (low + high)
-        above = mid + give(mid) > deg
-        high, low = np.where(above, mid, high), np.where(above, low, mid)
-    return 0.5 * (low + high)
-
-
 def _coefficients(rng: np.random.Generator, kind: str, lo: float, hi: float, top: float) -> dict[str, Any]:
     if kind == "afo":  # sized by its torque at a 15° bend, 10–25 N·m
         ripple, cam = float(rng.uniform(0.05, 0.15)), float(rng.uniform(1.1, 1.5)) * top
@@ -312,7 +301,7 @@ def generate_x(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Famil
     if "series_compliance" in effects:  # a strap softening with load
         tau_max = max(float(np.max(np.abs(_elastic(kind, deg, fixed, coef)))), 1e-9)
         c_give, softening = float(rng.uniform(0.05, 0.2)), float(rng.uniform(0.5, 1.5)) * tau_max
-        joint_deg = _behind_strap(deg, lambda d: softening_strap_give(_elastic(kind, d, fixed, coef), c_give, softening))
+        joint_deg = behind_strap(deg, lambda d: softening_strap_give(_elastic(kind, d, fixed, coef), c_give, softening))
         tau_j = _elastic(kind, joint_deg, fixed, coef)
         truth["series_compliance"] = float(np.dot(tau_j, deg - joint_deg) / np.dot(tau_j, tau_j))
         details.update(compliance_deg_per_Nm=c_give, softening_Nm=softening)
