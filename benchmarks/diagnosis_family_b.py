@@ -52,6 +52,7 @@ from . import (
     family_w_truth,
     family_x_truth,
     family_y_truth,
+    family_z_truth,
 )
 from .family_b_truth import EFFECTS, FamilyBTrial
 
@@ -62,8 +63,8 @@ from .family_b_truth import EFFECTS, FamilyBTrial
 #: run once on 406c919), the nineteenth (``diagnosis_family_s``, run once on 62d202b), the twentieth
 #: (``diagnosis_family_t``, run once on 9555647), the twenty-first (``diagnosis_family_u``, run once on f319385) and the
 #: twenty-second (``diagnosis_family_v``, run once on c3d0003), the twenty-third (``diagnosis_family_w``, run once on
-#: 4f53208), the twenty-fourth (``diagnosis_family_x``, run once on 5c4279e) and the twenty-fifth
-#: (``diagnosis_family_y``, held out from the thirty-fourth stop on)
+#: 4f53208), the twenty-fourth (``diagnosis_family_x``, run once on 5c4279e), the twenty-fifth (``diagnosis_family_y``,
+#: run once on 058a0a2) and the twenty-sixth (``diagnosis_family_z``, held out from the thirty-fourth stop's end on)
 FAMILIES = {"b": (family_b_truth.generate_b, family_b_truth.MAGNITUDE_KEY),
             "c": (family_c_truth.generate_c, family_c_truth.MAGNITUDE_KEY),
             "d": (family_d_truth.generate_d, family_d_truth.MAGNITUDE_KEY),
@@ -87,7 +88,8 @@ FAMILIES = {"b": (family_b_truth.generate_b, family_b_truth.MAGNITUDE_KEY),
             "v": (family_v_truth.generate_v, family_v_truth.MAGNITUDE_KEY),
             "w": (family_w_truth.generate_w, family_w_truth.MAGNITUDE_KEY),
             "x": (family_x_truth.generate_x, family_x_truth.MAGNITUDE_KEY),
-            "y": (family_y_truth.generate_y, family_y_truth.MAGNITUDE_KEY)}
+            "y": (family_y_truth.generate_y, family_y_truth.MAGNITUDE_KEY),
+            "z": (family_z_truth.generate_z, family_z_truth.MAGNITUDE_KEY)}
 
 KINDS = ("afo", "knee", "ankle")
 #: pairs one trial cannot separate (the engine reports them ambiguous): not scored, as in benchmarks/diagnosis

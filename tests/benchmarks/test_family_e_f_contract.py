@@ -31,12 +31,13 @@ from benchmarks.family_v_truth import generate_v
 from benchmarks.family_w_truth import generate_w
 from benchmarks.family_x_truth import generate_x
 from benchmarks.family_y_truth import generate_y
+from benchmarks.family_z_truth import generate_z
 
 GENERATORS = {"e": generate_e, "f": generate_f, "g": generate_g, "h": generate_h, "i": generate_i, "j": generate_j,
               "k": generate_k, "l": generate_l, "m": generate_m, "n": generate_n,
               "o": generate_o, "p": generate_p, "q": generate_q, "r": generate_r, "s": generate_s, "t": generate_t,
               "u": generate_u, "v": generate_v, "w": generate_w, "x": generate_x,
-              "y": generate_y}
+              "y": generate_y, "z": generate_z}
 
 
 @pytest.mark.parametrize("family", list(GENERATORS))
