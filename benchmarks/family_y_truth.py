@@ -55,7 +55,7 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
-from scipy.signal import lfilter
+from scipy.signal import bilinear, lfilter
 from scipy.special import erf
 
 # the scoring contract every family shares with the harness (benchmarks.diagnosis_family_b): the effects each kind
@@ -218,8 +218,6 @@ def hung_weight(rad: np.ndarray, rate: float, natural_hz: float, damping_ratio: 
     """The acceleration (rad/s²) of a weight hung on a spring from the segment, ÿ with y the angle ``rad`` through
     ÿ + 2ζω ẏ + ω² y = 2ζω θ̇ + ω² θ (a spring and a dashpot to the segment), by the bilinear transform; started at
     rest at the first angle."""
-    from scipy.signal import bilinear
-
     w = 2.0 * np.pi * natural_hz
     b, a = bilinear([2.0 * damping_ratio * w, w * w], [1.0, 2.0 * damping_ratio * w, w * w], fs=rate)
     theta = np.asarray(rad, dtype=float)

@@ -399,7 +399,7 @@ def _stop_column(prep: Prepared, stop: float, theta: np.ndarray | None = None) -
     return -np.maximum(stop - th, 0.0)
 
 
-#: the engagement widths (rad) a rounded stop is searched over (engine._Search.stop_is_a_kink): from nearly a hinge
+#: the engagement widths (rad) a rounded stop is searched over (engine._Search.stop_taken_up): from nearly a hinge
 #: to a passive element taken up over many degrees; a search grid, not a limit: the criterion decides
 STOP_ROUNDING_WIDTHS_RAD = np.deg2rad(np.geomspace(0.25, 16.0, 7))
 
@@ -414,7 +414,7 @@ def _rounded_stop_column(prep: Prepared, stop: float, width: float) -> np.ndarra
 
 def rounded_stop_cause() -> Cause:
     """The hard stop with a rounded engagement (its angle and width searched): the rival a stop must not lose to by
-    the criterion to be said a kink (engine._Search.stop_is_a_kink) or named (engine._Search.stop_taken_up)."""
+    the criterion to be named (engine._Search.stop_taken_up)."""
     return Cause("hard_stop", "added stiffness past a stop angle, engaging over a width",
                  ("afo", "knee", "ankle", "replica"),
                  lambda p, nl: _plain(p, _rounded_stop_column(p, nl[0], nl[1])),
@@ -429,7 +429,7 @@ def toe_onset_cause() -> Cause:
     """A passive element whose stiffness starts rising at an angle (a toe region's onset: the torque ∝ δ², δ the
     penetration past it at :func:`_stop_column`'s end and sign): slope continuous, curvature not. A contact's
     stiffness jumps where it is met (a kink in the torque); recruited tissue's rises from zero. The rival a stop must
-    not lose to by the criterion to be said a kink (engine._Search.stop_is_a_kink) or named (engine._Search.stop_taken_up)."""
+    not lose to by the criterion to be named (engine._Search.stop_taken_up)."""
     def column(p: Prepared, stop: float) -> np.ndarray:
         pen = _stop_column(p, stop)
         return np.sign(pen) * pen * pen

@@ -30,10 +30,10 @@ STRONG_MIN_HELDOUT_IMPROVEMENT = 0.004
 #: (300000–300009). The rival's rates stop at 20 /rad, the published passive terms' 11.2 /rad with margin
 #: (causes.py); they reached 40 /rad at first, and with the Diebold–Mariano test tried then the stops of
 #: 300000–300009 were named 8 of 20 at 40 /rad and 9 of 20 at 20 /rad: a choice made on development seeds.
-#: A joint's stop this test refuses that is a kink on the flexible baseline (engine._Search.stop_is_a_kink: the same
-#: STRONG_HELDOUT_GAIN, MIN_PEAK_TO_NOISE and min_delta_bic there, and not fitted clearly better by a rounded engagement
-#: or a toe's onset, engine._Search.stop_taken_up) is said, not named (named from the thirty-first to the thirty-third
-#: stop: 17 right and 27 false stops on 686 development trials)
+#: A joint's stop this test names must not be fitted clearly better by a rounded engagement or a toe's onset
+#: (engine._Search.stop_taken_up); one it refuses that is a kink on the flexible baseline (engine._Search.stop_is_a_kink:
+#: the same STRONG_HELDOUT_GAIN, MIN_PEAK_TO_NOISE and min_delta_bic there) is said, not named (named from the
+#: thirty-first to the thirty-third stop: 17 right and 27 false stops on 686 development trials)
 LOCAL_STOP_T = 3.5
 #: the orthosis's stop, by its own test and held-out blocks together. Its stop is searched over the
 #: upper half of the bend only (24 angles, not a joint's 40), and its misses at 3–5× the noise sit

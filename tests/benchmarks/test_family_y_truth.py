@@ -6,7 +6,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from benchmarks.family_b_truth import EFFECTS
 from benchmarks.family_y_truth import (
     NOISE_SD_NM,
     alpha_twitch,
@@ -134,15 +133,6 @@ def test_clean_trials_hold_noise_near_the_drawn_level(kind: str) -> None:
     assert g.details["noise_sd_Nm"] == pytest.approx(NOISE_SD_NM[kind], rel=0.3)
     ok = np.isfinite(g.torque_nm)
     assert ok.mean() > 0.99 and np.ptp(g.torque_nm[ok]) > 2.0
-
-
-@pytest.mark.parametrize("kind", ["afo", "knee", "ankle"])
-def test_every_effect_of_a_kind_is_drawn_with_a_truth_of_its_magnitude(kind: str) -> None:
-    for effect in EFFECTS[kind]:
-        g = generate_y(kind, (effect,), 11)
-        assert set(g.effects) == {effect}
-        value = g.effects[effect]
-        assert value is None or (np.isfinite(value) and value > 0), (effect, value)
 
 
 def test_a_delay_is_reported_as_the_shift_and_the_poles_lag() -> None:
