@@ -109,6 +109,9 @@ DRIFT_WANDER_CYCLES_PER_KNOT = 1.0
 #: an activation burst's physiological duration (s): a stretch reflex or a voluntary twitch lasts
 #: 0.15–2 s; longer "bursts" would absorb drift or a baseline mismatch
 BURST_DURATION_S = (0.15, 2.0)
+#: the burst durations (s) the search's matched filter tries (each then refined within BURST_DURATION_S); their count
+#: is part of the look-elsewhere correction of the isolated-burst test (transients.isolated_transient)
+BURST_GRID_DURATIONS_S = (0.2, 0.35, 0.5, 0.7, 1.0, 1.4, 2.0)
 #: the longest channel delay searched (s), and the grid's step up to DELAY_FINE_S and beyond it. The
 #: range is physical, not any generator's: a torque channel lagging its angle by more than a second is a
 #: misaligned file, not a delay; a trial shorter than ten times the delay cannot show it (the search
@@ -465,7 +468,7 @@ def _burst_grid(prep: Prepared) -> np.ndarray:
         resid = prep.target - base @ normal_lstsq(base, prep.target)
     dt = float(np.median(np.diff(prep.t)))
     pairs = []
-    for dur in (0.2, 0.35, 0.5, 0.7, 1.0, 1.4, 2.0):
+    for dur in BURST_GRID_DURATIONS_S:
         kernel = np.sin(np.pi * np.linspace(0, 1, max(3, int(dur / dt))))
         score = np.abs(np.correlate(resid, kernel, mode="valid"))
         for i in np.argsort(score)[::-1][:200:25]:

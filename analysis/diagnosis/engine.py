@@ -59,6 +59,7 @@ from ..trial_csv import NOMINAL_RANGE_DEG
 from .causes import (
     AFO_STOP_OR_SPRING_HINT,
     ARGUMENT_CAUSES,
+    BURST_GRID_DURATIONS_S,
     CAUSES,
     LAW_VARIANTS,
     SEPARATE_BY,
@@ -94,6 +95,7 @@ from .policy import (
     AFO_STOP_MIN_HELDOUT_GAIN,
     AFO_STOP_NOT_BESIDE,
     AFO_STOP_T,
+    ISOLATED_BURST_ALPHA,
     LOCAL_STOP_T,
     MAX_DELTA_BIC_WITH_STRONG_HELDOUT,
     MAX_RATE_HZ,
@@ -105,6 +107,7 @@ from .policy import (
     STRONG_MIN_HELDOUT_IMPROVEMENT,
 )
 from .result import Candidate, Diagnosis, magnitude
+from .transients import isolated_transient
 
 
 def _stop_offset(cause: Cause) -> int:
@@ -247,7 +250,9 @@ class _Search:
         # criterion against the flexible baseline at that fit's own n_eff. Not beside another cause: there the
         # flexible residual holds the other cause's law mismatch at every reversal, which a burst takes a piece of
         # (development, 2nd–10th families, seeds 800000–800002: beside a single friction, damping or drift 7
-        # spurious bursts). And, as a stop, only when material: its peak at least MIN_PEAK_TO_NOISE × the flexible
+        # spurious bursts; the isolated-event test below, tried there too at the thirty-fifth stop, named 18 more bursts
+        # of 168 development pairs but 7 spurious ones beside 168 single causes). And, as a stop, only when
+        # material: its peak at least MIN_PEAK_TO_NOISE × the flexible
         # fit's residual RMS (a clean sixth-family knee, Student-t noise, had a 1.5× bump at ΔBIC −103; the bursts
         # found this way were 3.3–7.9×). Development: single bursts 31 → 38 of 54 named, pairs with a burst 50 → 50
         # of 126 right (80 of their bursts named, 76 before), clean knee and ankle trials 158 → 158 of 180
@@ -263,6 +268,9 @@ class _Search:
             peak = abs(flex_model.params["burst_amplitude_Nm"]) / math.sqrt(flex_model.rss / max(flex_model.n, 1))
             d_own = bic(flex_model, n_flex) - bic(self.flexible(ref), n_flex)
             of_time = d_own < -need and peak >= MIN_PEAK_TO_NOISE
+            # or when it stands out of that fit's residual as one isolated event at its own time scale (the criterion's
+            # n_eff is set by the slowest noise, which a short burst need not stand out of: burst_is_isolated)
+            of_time = of_time or (peak >= MIN_PEAK_TO_NOISE and self.burst_is_isolated(flex_model, ref))
         # a second way in, by strong out-of-sample evidence: held-out blocks predicted far better
         # (gain > STRONG_HELDOUT_GAIN) while the in-sample criterion does not speak against it. A
         # local effect (a stop over the last degrees) barely moves the whole-trial BIC, whose
@@ -303,6 +311,15 @@ class _Search:
             # it was a stop in 17 and not one in 27 of 686 development trials (thirty-fourth stop, docs/validation.md)
             self.stops_not_told_from_smooth.add("+".join(model))
         return _Evidence(d, gain, d_flex, n_eff, ho, ok, d_own)
+
+    def burst_is_isolated(self, flex_model: CauseFit, ref: tuple[str, ...]) -> bool:
+        """Whether the burst of ``flex_model`` (a model with a burst fitted on the flexible baseline, its timing searched
+        there) stands out of the residual of ``ref`` on that baseline as one isolated event at its own time scale
+        (:func:`transients.isolated_transient` at :data:`ISOLATED_BURST_ALPHA`, over the burst grid's durations)."""
+        residual = self.flex.torque - self.flexible(ref).prediction
+        return isolated_transient(self.flex.t, residual, flex_model.params["burst_start_s"],
+                                  flex_model.params["burst_duration_s"], ISOLATED_BURST_ALPHA,
+                                  len(BURST_GRID_DURATIONS_S)).isolated
 
     def stop_is_a_kink(self, model: tuple[str, ...], ref: tuple[str, ...]) -> bool:
         """Whether the joint's stop in ``model`` (``ref`` plus the stop) is a kink in the torque–angle curve that a free

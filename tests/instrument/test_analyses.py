@@ -64,7 +64,9 @@ def test_an_activation_the_live_check_let_through_is_explained_not_contradicted(
     assert "accepted" in line and "below the 1 N·m the live relaxation check catches" in line
     start = g.details["burst_start_s"]
     assert f"{d.parameters['burst_start_s']:.1f}" in line and abs(d.parameters["burst_start_s"] - start) < 1.0
-    assert live_check_agreement(diagnose(as_trial(generate("knee", (), 500)))) == ""
+    # a clean trial: seed 501 (seed 500, used before the thirty-fifth stop, is one where the isolated-burst test fires at
+    # its 1 % family-wise level by chance: a 0.6 N·m window of 0.15 s at z 4.63 against a level of 4.61)
+    assert live_check_agreement(diagnose(as_trial(generate("knee", (), 501)))) == ""
 
 
 @pytest.mark.timeout(600)

@@ -1,0 +1,89 @@
+"""A transient against its own surroundings: a half-sine's matched filter with each window's mean and slope taken out,
+scanned over a residual and put in units of its own robust spread.
+
+It judges whether an activation burst the search placed stands out of the residual as a single isolated event
+(engine._Search.burst_is_isolated). The criterion judges every cause at the residual's effective
+sample size, which the slowest noise sets; a short burst does not have to stand out of noise that slow, only of the
+noise at its own time scale, which is what the scan's spread measures, whatever the noise's spectrum.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.signal import correlate
+from scipy.stats import norm
+
+
+@dataclass(frozen=True)
+class TransientScan:
+    """How far one event stands out of a residual's scan (:func:`isolated_transient`), in units of the scan's robust
+    spread."""
+
+    z_event: float        # at the event's start (within half its duration)
+    z_elsewhere: float    # the largest more than two durations away from it
+    z_critical: float     # the family-wise level over every window and searched duration
+
+    @property
+    def isolated(self) -> bool:
+        """The event passes the level and nothing else in the trial does: one transient, not a recurring misfit."""
+        return self.z_event > self.z_critical and self.z_elsewhere <= self.z_critical
+
+
+def scan(t: np.ndarray, residual: np.ndarray, duration_s: float) -> tuple[np.ndarray, np.ndarray, int] | None:
+    """(the finite samples' times in s, |z| of the filter at every window start, samples per duration) of ``residual``
+    (N·m) scanned with a half-sine of ``duration_s``; None where the data are too short for a spread.
+
+    The filter is the half-sine padded by one duration on each side, with its mean and slope over those three durations
+    taken out, at unit norm: it answers to a bump against its surroundings, not to an offset or a slow wander. Window
+    ``i`` covers samples ``i`` to ``i + 3m``, its bump starting at sample ``i + m``. Its output is put in units of its
+    robust spread (1.4826 × the median absolute deviation over the trial), which an event itself barely moves."""
+    ok = np.isfinite(residual) & np.isfinite(t)
+    t, e = np.asarray(t, dtype=float)[ok], np.asarray(residual, dtype=float)[ok]
+    if e.size < 3 or duration_s <= 0.0:
+        return None
+    m = max(3, int(round(duration_s / float(np.median(np.diff(t))))))
+    kernel = np.concatenate([np.zeros(m), np.sin(np.pi * np.linspace(0.0, 1.0, m)), np.zeros(m)])
+    x = np.linspace(-1.0, 1.0, kernel.size)
+    trend = np.column_stack([np.ones_like(x), x])
+    kernel = kernel - trend @ np.linalg.lstsq(trend, kernel, rcond=None)[0]
+    kernel /= np.linalg.norm(kernel)
+    if e.size < 4 * kernel.size:  # too short a trial for the scan's spread to mean anything
+        return None
+    out = correlate(e, kernel, mode="valid")
+    centred = np.abs(out - np.median(out))
+    spread = 1.4826 * float(np.median(centred))
+    if spread <= 0.0:
+        return None
+    return t, centred / spread, m
+
+
+def _level(times: np.ndarray, duration_s: float, alpha: float, searched_durations: int) -> float:
+    """The scan's family-wise level: Gaussian, two-sided, at ``alpha`` over the trial's independent windows (its
+    length over ``duration_s``) times the ``searched_durations``."""
+    windows = max(float(times[-1] - times[0]) / duration_s, 1.0) * max(searched_durations, 1)
+    return float(norm.isf(alpha / 2.0 / windows))
+
+
+def isolated_transient(t: np.ndarray, residual: np.ndarray, start_s: float, duration_s: float, alpha: float,
+                       searched_durations: int) -> TransientScan:
+    """How far the half-sine of ``duration_s`` starting at ``start_s`` stands out of ``residual`` (N·m at times ``t``
+    in s) in :func:`scan`. The level is Gaussian, two-sided, at ``alpha`` family-wise over the trial's independent
+    windows (its length over ``duration_s``) times the ``searched_durations`` a search tried. A second crossing more
+    than two durations away says the residual holds recurring structure (a law's misfit at every reversal, a passive
+    curve's at every pass), which one burst does not explain."""
+    scanned = scan(t, residual, duration_s)
+    if scanned is None:
+        return TransientScan(0.0, 0.0, math.inf)
+    times, z, m = scanned
+    at = int(np.searchsorted(times, start_s)) - m
+    near = z[max(at - m // 2, 0):max(min(at + m // 2 + 1, z.size), 0)]
+    away = np.ones(z.size, dtype=bool)
+    away[max(at - 2 * m, 0):max(min(at + 2 * m + 1, z.size), 0)] = False
+    return TransientScan(float(near.max()) if near.size else 0.0, float(z[away].max()) if away.any() else 0.0,
+                         _level(times, duration_s, alpha, searched_durations))
+
+
+__all__ = ["TransientScan", "isolated_transient", "scan"]
