@@ -250,8 +250,9 @@ class _Search:
         # criterion against the flexible baseline at that fit's own n_eff. Not beside another cause: there the
         # flexible residual holds the other cause's law mismatch at every reversal, which a burst takes a piece of
         # (development, 2nd–10th families, seeds 800000–800002: beside a single friction, damping or drift 7
-        # spurious bursts; the isolated-event test below, tried there too at the thirty-fifth stop, named 18 more bursts
-        # of 168 development pairs but 7 spurious ones beside 168 single causes). And, as a stop, only when
+        # spurious bursts; the isolated-event test below, tried there too at the thirty-fifth stop with the isolated
+        # windows in the burst grid, named 18 more bursts of 168 development pairs but 7 spurious ones beside 168 single
+        # causes). And, as a stop, only when
         # material: its peak at least MIN_PEAK_TO_NOISE × the flexible
         # fit's residual RMS (a clean sixth-family knee, Student-t noise, had a 1.5× bump at ΔBIC −103; the bursts
         # found this way were 3.3–7.9×). Development: single bursts 31 → 38 of 54 named, pairs with a burst 50 → 50
