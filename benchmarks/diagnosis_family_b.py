@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from . import (
+    family_aa_truth,
     family_b_truth,
     family_c_truth,
     family_d_truth,
@@ -64,7 +65,8 @@ from .family_b_truth import EFFECTS, FamilyBTrial
 #: (``diagnosis_family_t``, run once on 9555647), the twenty-first (``diagnosis_family_u``, run once on f319385) and the
 #: twenty-second (``diagnosis_family_v``, run once on c3d0003), the twenty-third (``diagnosis_family_w``, run once on
 #: 4f53208), the twenty-fourth (``diagnosis_family_x``, run once on 5c4279e), the twenty-fifth (``diagnosis_family_y``,
-#: run once on 058a0a2) and the twenty-sixth (``diagnosis_family_z``, held out from the thirty-fourth stop's end on)
+#: run once on 058a0a2), the twenty-sixth (``diagnosis_family_z``, run once on e14732c) and the twenty-seventh
+#: (``diagnosis_family_aa``, written at the thirty-fifth stop, held out for the next change)
 FAMILIES = {"b": (family_b_truth.generate_b, family_b_truth.MAGNITUDE_KEY),
             "c": (family_c_truth.generate_c, family_c_truth.MAGNITUDE_KEY),
             "d": (family_d_truth.generate_d, family_d_truth.MAGNITUDE_KEY),
@@ -89,7 +91,8 @@ FAMILIES = {"b": (family_b_truth.generate_b, family_b_truth.MAGNITUDE_KEY),
             "w": (family_w_truth.generate_w, family_w_truth.MAGNITUDE_KEY),
             "x": (family_x_truth.generate_x, family_x_truth.MAGNITUDE_KEY),
             "y": (family_y_truth.generate_y, family_y_truth.MAGNITUDE_KEY),
-            "z": (family_z_truth.generate_z, family_z_truth.MAGNITUDE_KEY)}
+            "z": (family_z_truth.generate_z, family_z_truth.MAGNITUDE_KEY),
+            "aa": (family_aa_truth.generate_aa, family_aa_truth.MAGNITUDE_KEY)}
 
 KINDS = ("afo", "knee", "ankle")
 #: pairs one trial cannot separate (the engine reports them ambiguous): not scored, as in benchmarks/diagnosis

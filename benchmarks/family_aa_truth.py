@@ -1,0 +1,347 @@
+"""A twenty-seventh generator family for the diagnosis, written (2026-12-07, thirty-fifth stop) while that stop's change
+was measured on development data and before the twenty-sixth family's run, nothing diagnosed on it; to be run once on
+the next change's frozen engine.
+
+The second to twenty-sixth families (:mod:`benchmarks.family_b_truth` … ``family_z_truth``) are development data
+once run. This one draws every cause from a law the engine's library does not hold (checked against
+:mod:`analysis.diagnosis.causes` at the thirty-fifth stop's change; where an earlier family used a near relation it is
+said) and keeps every nuisance below what the diagnosis should name. Nothing is imported from ``analysis``, nor any
+physics from the other generators (only the scoring contract of :mod:`benchmarks.family_b_truth` and the scaffolding
+of :mod:`benchmarks.family_scaffold`).
+
+- Passive moment: at each end of a joint's range a power law in the bend past an onset, A·x̄^p (p 2.2–3.5), x̄ the
+  softplus of the angle past the onset over 1–3°; the steep end sized by its torque at the range's end, the onset
+  toward a two-joint muscle moved by the other joint's angle; a small linear term. The AFO: a spring joined by an
+  elastic strap past 4–10° of bend, θ + r·w·ln(1 + e^{(θ − θ_j)/w}) (r 0.3–0.8, w 1–2°).
+- Motion: constant-speed ramps of 3–7 °/s with a 2–4 % speed ripple at 1–3 Hz (a servo's cogging), pauses of 0.2–2 s
+  at every turn, turns smoothed over 0.15 s; 3–4 cycles. The AFO: 5–9 bends to 10–20° of 1–2.5 s each way, a hand's
+  tremor of 8–12 Hz and 0.05–0.2° on the angle.
+- Limb: segment parameters drawn per trial (family_scaffold.draw_segments).
+- Causes, each sized so its largest torque is 3–5 × the noise SD (a delay and a compliance by their ranges):
+  * friction: a worn bearing, its level varying with the angle, (1 + d·sin(2πθ/P))·v/√(v² + ε²) (d 0.2–0.5, P 10–30°,
+    ε 0.2–0.8 °/s); magnitude: its mean |F| over the moving samples;
+  * damping: a springpot (a fractional element of order α 0.6–0.85), η·D^α θ, the fractional integral of order 1 − α
+    of θ̇ by Grünwald–Letnikov over 10 s of memory (the library's nearest law: a damping of the velocity through a
+    first-order relaxation); magnitude: the least-squares slope of its torque on θ̇;
+  * stop: a two-stage bumper, a soft pad over its first 0.5–2° and a contact 4–10 × stiffer past it (joined over
+    0.3°), anywhere in the last 5–30 % of either end of a joint's range (the AFO's at the top of its bend); named only;
+  * delay: the torque sampled and held at 20–50 Hz and delivered 0.03–0.4 s late with ±5–20 ms of jitter (a bus's
+    latency); magnitude: the mean latency plus half the hold period;
+  * activation: clonus, beats of 5–8 Hz riding on a tonic part, (0.6 + 0.4·sin 2πf(t − t₀)) under a sin² envelope of
+    0.6–2 s (the library's Hann burst is that envelope without the beats), anywhere in 10–85 % of the trial, of either
+    sign; magnitude: its peak;
+  * limb-weight error: the shank's (knee) or foot's (ankle) centre of mass sliding along the segment as the angle
+    changes (soft tissue falling; 1–3 cm over the range, either way), its moment m·g·Δr(θ)·cos ψ; magnitude: its peak;
+  * drift: a connector knocked at 20–80 % of the trial, the offset rising over 1–3 s and recovering exponentially
+    (30–60 s) toward 30–70 % of it; named only;
+  * series compliance: a strap that locks, its give c·τ_s·tanh(τ/τ_s) (τ_s 0.5–1 × the largest torque; the twenty-
+    fifth family's strap softened, this one stiffens); magnitude: the least-squares slope of the give on the torque;
+  * inertia error: a weight strapped off the segment's axis, its inertia J(θ) = J₀(1 + κ·u), u from −1 to 1 over the
+    range (κ ±0.2–0.4), torque J(θ)·θ̈ + ½·J′(θ)·θ̇²; magnitude: the least-squares coefficient of its torque on θ̈.
+- Nuisances, each below what should be named: 100–1000 Hz; Laplace (heavy-tailed) noise, mains hum (50 or 60 Hz, at
+  the sampling rate's alias) of 0.2–0.5 × the noise SD, single-sample spikes (up to 0.05 % of rows, 4–8 × the SD); a
+  constant torque gain error of ±1 %; quantised torque and angle; the clock fast or slow by up to 0.02 % with jitter;
+  rows dropped singly (0–1 %) and in runs; NaN cells in any column (≤ 0.3 %, time included); torque and angle offsets.
+
+Angles in degrees at the edges, SI in the returned arrays.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+# the scoring contract every family shares with the harness (benchmarks.diagnosis_family_b): the effects each kind
+# may hide, the engine's magnitude key per cause, the trial record; the physics below is this family's own
+from .family_b_truth import EFFECTS, MAGNITUDE_KEY, FamilyBTrial
+from .family_scaffold import (
+    GRAVITY,
+    behind_strap,
+    coupled_onsets,
+    damage_recording,
+    draw_segments,
+    draw_subject,
+    kinematics,
+    limb_load,
+    protocol_set_up,
+    trial_rng,
+)
+
+NOISE_SD_NM = {"afo": 0.07, "knee": 0.17, "ankle": 0.13}
+#: how far (deg) an end's onset moves per degree of the other joint's angle away from its middle setting
+COUPLING_SHIFT = (0.05, 0.2)
+#: the springpot's memory (s) and the grid (Hz) its Grünwald–Letnikov sum runs on
+SPRINGPOT_MEMORY_S, SPRINGPOT_GRID_HZ = 10.0, 50.0
+
+
+def power_end(x_deg: np.ndarray, onset_smoothing_deg: float, exponent: float) -> np.ndarray:
+    """A power-law end per unit amplitude: x̄^p, x̄ = s·ln(1 + e^{x/s}) the softplus of the angle ``x_deg`` past the
+    onset over s = ``onset_smoothing_deg``, p = ``exponent``."""
+    x = np.asarray(x_deg, dtype=float) / onset_smoothing_deg
+    return np.asarray((onset_smoothing_deg * np.logaddexp(0.0, x)) ** exponent, dtype=float)
+
+
+def strap_joined_spring(deg: np.ndarray, join_deg: float, ratio: float, width_deg: float) -> np.ndarray:
+    """An orthosis's spring per unit stiffness joined by a strap past ``join_deg``: θ + r·w·ln(1 + e^{(θ − θ_j)/w})
+    (r = ``ratio``, w = ``width_deg``) for θ ≥ 0 (deg), 0 below."""
+    th = np.clip(np.asarray(deg, dtype=float), 0.0, None)
+    joined = ratio * width_deg * (np.logaddexp(0.0, (th - join_deg) / width_deg)
+                                  - np.logaddexp(0.0, -join_deg / width_deg))
+    return th + joined
+
+
+def _smoothed(deg: np.ndarray, rate: float, window_s: float) -> np.ndarray:
+    """``deg`` through a Hann window of ``window_s`` (the ends held)."""
+    n = max(3, int(round(window_s * rate)) | 1)
+    window = np.hanning(n + 2)[1:-1]
+    padded = np.concatenate([np.full(n, deg[0]), deg, np.full(n, deg[-1])])
+    return np.convolve(padded, window / window.sum(), mode="same")[n:-n]
+
+
+def paused_ramps(rng: np.random.Generator, lo: float, hi: float, rate: float) -> np.ndarray:
+    """The angle (deg): 3–4 cycles of constant-speed ramps (3–7 °/s, a 2–4 % ripple at 1–3 Hz) between ``lo`` and
+    ``hi``, a pause of 0.2–2 s at every turn, the turns smoothed over 0.15 s."""
+    speed = float(rng.uniform(3.0, 7.0))
+    ripple, cog_hz = float(rng.uniform(0.02, 0.04)), float(rng.uniform(1.0, 3.0))
+    parts = [np.full(int(rng.uniform(0.2, 2.0) * rate), lo)]
+    for _ in range(int(rng.integers(3, 5))):
+        for a, b in ((lo, hi), (hi, lo)):
+            n = int(np.ceil(abs(b - a) / speed * rate))
+            tt = np.arange(1, n + 1) / rate
+            travel = speed * (tt + ripple * (1.0 - np.cos(2.0 * np.pi * cog_hz * tt)) / (2.0 * np.pi * cog_hz))
+            parts.append(a + np.sign(b - a) * np.clip(travel, 0.0, abs(b - a)))
+            parts.append(np.full(int(rng.uniform(0.2, 2.0) * rate), b))
+    return _smoothed(np.concatenate(parts), rate, 0.15)
+
+
+def tremulous_bends(rng: np.random.Generator, rate: float) -> np.ndarray:
+    """AFO bends (deg): 5–9 half-cosine bends to 10–20° of 1–2.5 s each way, back to 0–2° (0° after the last), with a
+    hand's tremor of 8–12 Hz and 0.05–0.2° while bent."""
+    parts = [np.zeros(int(0.5 * rate))]
+    base = 0.0
+    count = int(rng.integers(5, 10))
+    for k in range(count):
+        peak = float(rng.uniform(10.0, 20.0))
+        back = 0.0 if k == count - 1 else float(rng.uniform(0.0, 2.0))
+        for a, b in ((base, peak), (peak, back)):
+            n = int(rng.uniform(1.0, 2.5) * rate)
+            parts.append(a + (b - a) * 0.5 * (1.0 - np.cos(np.pi * np.arange(1, n + 1) / n)))
+        base = back
+    parts.append(np.zeros(int(0.5 * rate)))
+    deg = np.concatenate(parts)
+    t = np.arange(deg.size) / rate
+    tremor = float(rng.uniform(0.05, 0.2)) * np.sin(2.0 * np.pi * float(rng.uniform(8.0, 12.0)) * t
+                                                     + float(rng.uniform(0.0, 2.0 * np.pi)))
+    return deg + tremor * np.clip(deg / 5.0, 0.0, 1.0)
+
+
+def worn_bearing_friction(deg: np.ndarray, vel_deg_s: np.ndarray, depth: float, period_deg: float,
+                          epsilon_deg_s: float) -> np.ndarray:
+    """A friction per unit mean level varying with the angle: (1 + d·sin(2πθ/P))·v/√(v² + ε²)."""
+    v = np.asarray(vel_deg_s, dtype=float)
+    level = 1.0 + depth * np.sin(2.0 * np.pi * np.asarray(deg, dtype=float) / period_deg)
+    return level * v / np.sqrt(v * v + epsilon_deg_s**2)
+
+
+def springpot(vel: np.ndarray, t: np.ndarray, order: float) -> np.ndarray:
+    """D^α of the angle (rad/s^α) as the fractional integral of order 1 − α of the angular velocity ``vel`` (rad/s;
+    at rest before the trial), by Grünwald–Letnikov on a :data:`SPRINGPOT_GRID_HZ` grid with :data:`SPRINGPOT_MEMORY_S`
+    of memory, interpolated back to ``t`` (s); α = ``order``. Weights g_k = g_{k−1}(1 − α/k), scaled by h^{1−α}."""
+    h = 1.0 / SPRINGPOT_GRID_HZ
+    grid = np.arange(float(t[0]), float(t[-1]) + h, h)
+    v = np.interp(grid, t, vel)
+    taps = int(SPRINGPOT_MEMORY_S / h)
+    g = np.ones(taps)
+    for k in range(1, taps):
+        g[k] = g[k - 1] * (1.0 - order / k)
+    d = np.convolve(np.concatenate([np.zeros(taps - 1), v]), g, mode="valid") * h ** (1.0 - order)
+    return np.interp(t, grid, d)
+
+
+def two_stage_stop(deg: np.ndarray, at_deg: float, high: bool, pad_deg: float, ratio: float) -> np.ndarray:
+    """A bumper per unit pad stiffness toward the range's inside (positive at the high end): δ through the pad, and
+    (1 + r)·δ − r·δ_p past it (r = ``ratio``, δ_p = ``pad_deg``), joined over 0.3°; δ the depth past ``at_deg``."""
+    sign = 1.0 if high else -1.0
+    depth = np.clip(sign * (np.asarray(deg, dtype=float) - at_deg), 0.0, None)
+    join = 0.3
+    contact = ratio * join * (np.logaddexp(0.0, (depth - pad_deg) / join) - np.logaddexp(0.0, -pad_deg / join))
+    return sign * np.where(depth > 0.0, depth + contact, 0.0)
+
+
+def held_late(torque: np.ndarray, t: np.ndarray, latency_s: float, jitter_s: float, hold_hz: float,
+              rng: np.random.Generator) -> tuple[np.ndarray, float]:
+    """(the torque sampled at ``hold_hz``, each sample delivered ``latency_s`` ± ``jitter_s`` late (never before the one
+    ahead of it) and held until the next arrives; the delay in s: the mean latency plus half the hold period)."""
+    ticks = np.arange(float(t[0]), float(t[-1]), 1.0 / hold_hz)
+    values = np.interp(ticks, t, torque)
+    arrive = np.maximum.accumulate(ticks + latency_s + rng.uniform(-jitter_s, jitter_s, ticks.size))
+    idx = np.searchsorted(arrive, t, side="right") - 1
+    out = np.where(idx >= 0, values[np.clip(idx, 0, None)], values[0])
+    return out, latency_s + 0.5 / hold_hz
+
+
+def clonus(t: np.ndarray, start_s: float, envelope_s: float, beat_hz: float) -> np.ndarray:
+    """Clonus per unit peak: (0.6 + 0.4·sin 2πf(t − t₀)) under sin²(π(t − t₀)/T) for t₀ ≤ t ≤ t₀ + T."""
+    u = (np.asarray(t, dtype=float) - start_s) / envelope_s
+    inside = (u >= 0.0) & (u <= 1.0)
+    shape = np.where(inside, np.sin(np.pi * np.clip(u, 0.0, 1.0)) ** 2
+                     * (0.6 + 0.4 * np.sin(2.0 * np.pi * beat_hz * (t - start_s))), 0.0)
+    return shape / max(float(np.max(shape)), 1e-12)
+
+
+def knocked_connector(t: np.ndarray, at_s: float, rise_s: float, recovery_s: float, settle_share: float) -> np.ndarray:
+    """A connector knocked at ``at_s``: an offset per unit rising over ``rise_s`` (a half cosine), then recovering
+    exponentially with ``recovery_s`` toward ``settle_share`` of it."""
+    u = np.clip((np.asarray(t, dtype=float) - at_s) / rise_s, 0.0, 1.0)
+    rise = 0.5 * (1.0 - np.cos(np.pi * u))
+    after = np.clip(np.asarray(t, dtype=float) - at_s - rise_s, 0.0, None)
+    return rise * (settle_share + (1.0 - settle_share) * np.exp(-after / recovery_s))
+
+
+def locking_strap_give(torque: np.ndarray, compliance: float, lock_nm: float) -> np.ndarray:
+    """The strap's give (deg): ``compliance``·τ_s·tanh(τ/τ_s), τ_s = ``lock_nm``."""
+    return compliance * lock_nm * np.tanh(np.asarray(torque, dtype=float) / lock_nm)
+
+
+def off_axis_weight(rad: np.ndarray, vel: np.ndarray, acc: np.ndarray, lo_rad: float, hi_rad: float, slope: float
+                    ) -> np.ndarray:
+    """The torque per unit mid-range inertia of a weight whose inertia varies along the range: J(θ)·θ̈ + ½·J′(θ)·θ̇²,
+    J = 1 + κ·u, u = (2θ − lo − hi)/(hi − lo), κ = ``slope``."""
+    u = (2.0 * np.asarray(rad, dtype=float) - lo_rad - hi_rad) / (hi_rad - lo_rad)
+    return (1.0 + slope * u) * acc + 0.5 * (2.0 * slope / (hi_rad - lo_rad)) * vel * vel
+
+
+def _elastic(kind: str, deg: np.ndarray, fixed: dict[str, float], c: dict[str, Any]) -> np.ndarray:
+    """The passive resistance (N·m)."""
+    if kind == "afo":
+        return c["k"] * strap_joined_spring(deg, c["join"], c["ratio"], c["width"])
+    on_low, on_high = coupled_onsets(kind, c["on_low"], c["on_high"], c["shift"], fixed)
+    return (-c["a_low"] * power_end(on_low - deg, c["smooth"], c["p_low"])
+            + c["a_high"] * power_end(deg - on_high, c["smooth"], c["p_high"])
+            + c["linear"] * (deg - 0.5 * (c["lo"] + c["hi"])))
+
+
+def _coefficients(rng: np.random.Generator, kind: str, lo: float, hi: float) -> dict[str, Any]:
+    if kind == "afo":  # sized by its torque at a 15° bend, 10–25 N·m
+        join, ratio, width = float(rng.uniform(4.0, 10.0)), float(rng.uniform(0.3, 0.8)), float(rng.uniform(1.0, 2.0))
+        return {"join": join, "ratio": ratio, "width": width,
+                "k": float(rng.uniform(10.0, 25.0)) / float(strap_joined_spring(np.array(15.0), join, ratio, width))}
+    span = hi - lo
+    big = {"knee": (4.0, 14.0), "ankle": (3.0, 10.0)}[kind]
+    small = (1.0, 4.0)
+    on_low, on_high = lo + rng.uniform(0.2, 0.45) * span, hi - rng.uniform(0.2, 0.45) * span
+    smooth = float(rng.uniform(1.0, 3.0))
+    p_low, p_high = float(rng.uniform(2.2, 3.5)), float(rng.uniform(2.2, 3.5))
+    t_low = rng.uniform(*big) if kind == "knee" else rng.uniform(*small)
+    t_high = rng.uniform(*small) if kind == "knee" else rng.uniform(*big)
+    return {"a_low": t_low / float(power_end(np.array(on_low - lo), smooth, p_low)),
+            "a_high": t_high / float(power_end(np.array(hi - on_high), smooth, p_high)),
+            "p_low": p_low, "p_high": p_high, "smooth": smooth, "on_low": on_low, "on_high": on_high,
+            "shift": float(rng.uniform(*COUPLING_SHIFT)), "linear": float(rng.uniform(0.0, 0.02)), "lo": lo, "hi": hi}
+
+
+def _lab_noise(rng: np.random.Generator, t: np.ndarray, sd: float) -> np.ndarray:
+    """Laplace noise of SD ``sd`` (N·m), mains hum of 0.2–0.5 × it at 50 or 60 Hz, and single-sample spikes (up to
+    0.05 % of rows, 4–8 × it, either sign)."""
+    noise = rng.laplace(0.0, sd / np.sqrt(2.0), t.size)
+    hum_hz = float(rng.choice([50.0, 60.0]))
+    noise += float(rng.uniform(0.2, 0.5)) * sd * np.sin(2.0 * np.pi * hum_hz * t + float(rng.uniform(0.0, 2 * np.pi)))
+    spikes = rng.random(t.size) < float(rng.uniform(0.0, 5e-4))
+    noise[spikes] += rng.uniform(4.0, 8.0, int(spikes.sum())) * sd * rng.choice([-1.0, 1.0], int(spikes.sum()))
+    return noise
+
+
+def generate_aa(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> FamilyBTrial:
+    """One trial of ``kind`` hiding ``effects`` (names as :data:`EFFECTS`), drawn from ``seed``."""
+    rng = trial_rng((27, 27, 27), kind, effects, seed)
+    rate = float(rng.choice([100.0, 250.0, 500.0, 1000.0]))
+    subject = draw_subject(rng)
+    seg = draw_segments(rng)
+    fixed, lo, hi, deg = protocol_set_up(rng, kind, lambda r, a, b: paused_ramps(r, a, b, rate),
+                                         lambda r: tremulous_bends(r, rate))
+    coef = _coefficients(rng, kind, lo, hi)
+    t, rad, vel, acc = kinematics(deg, rate)
+    sd = NOISE_SD_NM[kind] * rng.uniform(0.8, 1.25)
+    details: dict[str, Any] = {"rate_hz": rate, "noise_sd_Nm": sd, "segments": seg}
+    truth: dict[str, float | None] = {}
+    moving = np.abs(vel) > np.radians(0.5)
+    top, bottom = (float(deg.max()), 0.0) if kind == "afo" else (hi, lo)
+
+    def size() -> float:
+        return float(rng.uniform(3.0, 5.0)) * sd
+
+    joint_deg = deg
+    if "series_compliance" in effects:  # a strap that locks
+        tau_max = max(float(np.max(np.abs(_elastic(kind, deg, fixed, coef)))), 1e-9)
+        c_give, lock = float(rng.uniform(0.05, 0.2)), float(rng.uniform(0.5, 1.0)) * tau_max
+        joint_deg = behind_strap(deg, lambda d: locking_strap_give(_elastic(kind, d, fixed, coef), c_give, lock))
+        tau_j = _elastic(kind, joint_deg, fixed, coef)
+        truth["series_compliance"] = float(np.dot(tau_j, deg - joint_deg) / np.dot(tau_j, tau_j))
+        details.update(compliance_deg_per_Nm=c_give, lock_Nm=lock)
+    joint = np.radians(joint_deg)
+    load = limb_load(kind, joint, fixed, subject["mass_kg"], subject["shank_length_m"], subject["foot_length_m"], seg,
+                     GRAVITY)
+    torque = _elastic(kind, joint_deg, fixed, coef) + load.moment_nm + load.inertia_kgm2 * acc
+    if "gravity_error" in effects:  # the segment's centre of mass sliding along it with the angle
+        mass = load.shank_kg if kind == "knee" else load.foot_kg
+        u = (2.0 * joint_deg - lo - hi) / (hi - lo)
+        slide = float(rng.uniform(0.01, 0.03)) * float(rng.choice([-1.0, 1.0])) * 0.5 * (1.0 + u)
+        unit = mass * GRAVITY * slide * np.cos(load.direction_rad)
+        error = size() * unit / max(float(np.max(np.abs(unit))), 1e-12)
+        torque = torque + error
+        truth["gravity_error"] = float(np.max(np.abs(error)))
+    if "coulomb_friction" in effects:
+        unit = worn_bearing_friction(deg, np.degrees(vel), float(rng.uniform(0.2, 0.5)), float(rng.uniform(10.0, 30.0)),
+                                     float(rng.uniform(0.2, 0.8)))
+        friction = size() * unit / max(float(np.max(np.abs(unit))), 1e-12)
+        torque = torque + friction
+        truth["coulomb_friction"] = float(np.mean(np.abs(friction[moving])))
+    if "viscous_damping" in effects:
+        order = float(rng.uniform(0.6, 0.85))
+        unit = springpot(vel, t, order)
+        damping = size() * unit / max(float(np.max(np.abs(unit))), 1e-12)
+        torque = torque + damping
+        truth["viscous_damping"] = float(np.dot(vel, damping) / np.dot(vel, vel))
+        details.update(springpot_order=order)
+    if "inertia" in effects:
+        unit = off_axis_weight(rad, vel, acc, np.radians(bottom), np.radians(top),
+                               float(rng.uniform(0.2, 0.4)) * float(rng.choice([-1.0, 1.0])))
+        weight = size() * unit / max(float(np.max(np.abs(unit))), 1e-12)
+        torque = torque + weight
+        truth["inertia"] = float(np.dot(acc, weight) / np.dot(acc, acc))
+    if "hard_stop" in effects:
+        high_end = kind == "afo" or bool(rng.random() < 0.5)
+        depth = float(rng.uniform(0.05, 0.3))
+        at = top - depth * (top - bottom) if high_end else bottom + depth * (top - bottom)
+        pad = float(rng.uniform(0.5, 2.0))
+        unit = two_stage_stop(deg, at, high_end, pad, float(rng.uniform(4.0, 10.0)))
+        torque = torque + size() * unit / max(float(np.max(np.abs(unit))), 1e-12)
+        truth["hard_stop"] = None
+        details.update(stop_deg=at, stop_end="high" if high_end else "low", pad_deg=pad)
+    if "activation_burst" in effects:
+        start = float(rng.uniform(0.1, 0.85)) * float(t[-1])
+        peak = size()
+        shape = clonus(t, start, float(rng.uniform(0.6, 2.0)), float(rng.uniform(5.0, 8.0)))
+        torque = torque + float(rng.choice([-1.0, 1.0])) * peak * shape
+        truth["activation_burst"] = peak
+        details.update(clonus_start_s=start)
+    if "sensor_drift" in effects:
+        knock = knocked_connector(t, float(rng.uniform(0.2, 0.8)) * float(t[-1]), float(rng.uniform(1.0, 3.0)),
+                                  float(rng.uniform(30.0, 60.0)), float(rng.uniform(0.3, 0.7)))
+        torque = torque + size() * float(rng.choice([-1.0, 1.0])) * knock / max(float(np.max(knock)), 1e-12)
+        truth["sensor_drift"] = None
+    if "time_delay" in effects:
+        torque, delay = held_late(torque, t, float(rng.uniform(0.03, 0.4)), float(rng.uniform(0.005, 0.02)),
+                                  float(rng.uniform(20.0, 50.0)), rng)
+        truth["time_delay"] = delay
+    torque = torque * (1.0 + float(rng.uniform(-0.01, 0.01))) + _lab_noise(rng, t, sd) + rng.uniform(-1.0, 1.0)
+    stamp, angle, torque = damage_recording(rng, t, rad, torque, rate, torque_quantum_nm=(0.002, 0.012),
+                                            angle_quantum_deg=(0.005, 0.03), clock_fraction=2e-4, drop_fraction=0.01,
+                                            run_s=0.1, nan_fraction=0.003)
+    return FamilyBTrial(kind, stamp, angle, torque, fixed, subject, {e: truth[e] for e in effects}, details)
+
+
+__all__ = ["EFFECTS", "MAGNITUDE_KEY", "NOISE_SD_NM", "FamilyBTrial", "clonus", "generate_aa", "held_late",
+           "knocked_connector", "locking_strap_give", "off_axis_weight", "paused_ramps", "power_end", "springpot",
+           "strap_joined_spring", "tremulous_bends", "two_stage_stop", "worn_bearing_friction"]

@@ -1,0 +1,155 @@
+"""The twenty-seventh generator family: its own laws and the ranges they are drawn from (the contract every family
+shares: test_family_e_f_contract)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from benchmarks.family_aa_truth import (
+    NOISE_SD_NM,
+    clonus,
+    generate_aa,
+    held_late,
+    knocked_connector,
+    locking_strap_give,
+    off_axis_weight,
+    paused_ramps,
+    power_end,
+    springpot,
+    strap_joined_spring,
+    tremulous_bends,
+    two_stage_stop,
+    worn_bearing_friction,
+)
+
+
+def test_the_power_end_is_flat_before_its_onset_and_a_power_law_far_past_it() -> None:
+    assert float(power_end(np.array(-40.0), 1.0, 3.0)) < 1e-30
+    far = power_end(np.array([20.0, 40.0]), 0.01, 2.5)
+    assert far[1] / far[0] == pytest.approx(2.0**2.5, rel=1e-6)
+
+
+def test_the_strap_joins_the_spring_past_its_angle_and_adds_its_stiffness() -> None:
+    h = 1e-4
+    below = strap_joined_spring(np.array([1.0, 1.0 + h]), 8.0, 0.5, 0.2)
+    above = strap_joined_spring(np.array([14.0, 14.0 + h]), 8.0, 0.5, 0.2)
+    assert (below[1] - below[0]) / h == pytest.approx(1.0, abs=1e-6)
+    assert (above[1] - above[0]) / h == pytest.approx(1.5, rel=1e-6)
+    assert float(strap_joined_spring(np.array(-3.0), 8.0, 0.5, 1.0)) == 0.0
+    assert float(strap_joined_spring(np.array(0.0), 8.0, 0.5, 1.0)) == pytest.approx(0.0, abs=1e-12)
+
+
+def test_ramps_pause_at_every_turn_and_run_at_their_speed_with_a_ripple() -> None:
+    rate = 200.0
+    deg = paused_ramps(np.random.default_rng(4), 10.0, 80.0, rate)
+    speed = np.abs(np.diff(deg)) * rate
+    assert deg.min() == pytest.approx(10.0, abs=0.01) and deg.max() == pytest.approx(80.0, abs=0.01)
+    moving = speed[speed > 1.0]
+    assert 3.0 * 0.95 <= np.median(moving) <= 7.0 * 1.05 and moving.max() <= 7.0 * 1.04 + 1e-6
+    still = speed < 1e-6
+    runs = np.diff(np.flatnonzero(np.diff(np.concatenate([[0], still.astype(int), [0]]))))[::2]
+    assert (runs >= 0.2 * rate - 0.15 * rate).sum() >= 6  # a pause at every turn (less the smoothing's share)
+
+
+def test_orthosis_bends_carry_a_tremor_only_while_bent() -> None:
+    rate = 500.0
+    deg = tremulous_bends(np.random.default_rng(6), rate)
+    assert abs(deg[0]) < 1e-12 and abs(deg[-1]) < 1e-12 and 9.5 <= deg.max() <= 20.2
+    spectrum = np.abs(np.fft.rfft(deg - np.convolve(deg, np.ones(51) / 51, mode="same")))
+    freqs = np.fft.rfftfreq(deg.size, 1.0 / rate)
+    band = (freqs > 2.0) & (freqs < 40.0)
+    assert 7.5 <= freqs[band][np.argmax(spectrum[band])] <= 12.5
+
+
+def test_the_worn_bearing_resists_the_motion_with_a_level_varying_with_the_angle() -> None:
+    deg = np.linspace(0.0, 40.0, 401)
+    f = worn_bearing_friction(deg, np.full(deg.size, 5.0), 0.4, 20.0, 0.5)
+    assert np.all(f > 0)
+    assert f.max() / f.min() == pytest.approx(1.4 / 0.6, rel=1e-2)
+    assert np.all(worn_bearing_friction(deg, np.full(deg.size, -5.0), 0.4, 20.0, 0.5) < 0)
+
+
+def test_the_springpot_lies_between_a_spring_and_a_dashpot() -> None:
+    """On a sine of 0.5 Hz, D^α leads the angle by α·90° and scales by ω^α (its steady state)."""
+    rate = 200.0
+    t = np.arange(0.0, 40.0, 1.0 / rate)
+    omega = 2.0 * np.pi * 0.5
+    angle = np.sin(omega * t)
+    out = springpot(omega * np.cos(omega * t), t, 0.7)
+    late = t > 15.0
+    basis = np.column_stack([np.sin(omega * t[late]), np.cos(omega * t[late])])
+    a, b = np.linalg.lstsq(basis, out[late], rcond=None)[0]
+    assert math.hypot(a, b) == pytest.approx(omega**0.7, rel=0.03)
+    assert math.degrees(math.atan2(b, a)) == pytest.approx(0.7 * 90.0, abs=3.0)
+    assert np.allclose(out[t < 0.0], 0.0) and angle.size == out.size
+
+
+def test_the_bumper_is_soft_through_its_pad_and_stiff_past_it() -> None:
+    h = 1e-4
+    for high, sign in ((True, 1.0), (False, -1.0)):
+        at = 50.0
+        pad = np.array([at + sign * 0.5, at + sign * (0.5 + h)])
+        past = np.array([at + sign * 4.0, at + sign * (4.0 + h)])
+        k_pad = abs(np.diff(two_stage_stop(pad, at, high, 2.0, 6.0))[0]) / h
+        k_past = abs(np.diff(two_stage_stop(past, at, high, 2.0, 6.0))[0]) / h
+        assert k_pad == pytest.approx(1.0, abs=0.05) and k_past == pytest.approx(7.0, rel=2e-3)  # joined over 0.3°
+        assert float(two_stage_stop(np.array(at - sign * 3.0), at, high, 2.0, 6.0)) == 0.0
+
+
+def test_the_bus_delivers_held_samples_late_and_never_out_of_order() -> None:
+    rate = 1000.0
+    t = np.arange(0.0, 10.0, 1.0 / rate)
+    torque = np.sin(2.0 * np.pi * 0.3 * t)
+    out, delay = held_late(torque, t, 0.2, 0.01, 25.0, np.random.default_rng(1))
+    assert delay == pytest.approx(0.2 + 0.02)
+    lags = np.arange(0, 600)
+    errors = [np.mean((out[600:] - torque[600 - k:t.size - k]) ** 2) for k in lags]
+    assert int(np.argmin(errors)) / rate == pytest.approx(delay, abs=0.015)
+    changes = np.flatnonzero(np.diff(out) != 0)
+    assert np.all(np.diff(changes) >= 1)  # a step at most every sample: held values
+
+
+def test_clonus_beats_under_its_envelope_and_is_zero_outside() -> None:
+    t = np.arange(0.0, 10.0, 0.001)
+    c = clonus(t, 3.0, 1.5, 6.0)
+    assert c.max() == pytest.approx(1.0) and np.all(c[(t < 3.0) | (t > 4.5)] == 0.0) and np.all(c >= 0.0)
+    inside = (t > 3.3) & (t < 4.2)
+    spectrum = np.abs(np.fft.rfft(c[inside] - c[inside].mean()))
+    freqs = np.fft.rfftfreq(int(inside.sum()), 0.001)
+    assert 4.5 <= freqs[np.argmax(spectrum[freqs > 2.0]) + np.flatnonzero(freqs > 2.0)[0]] <= 7.5
+
+
+def test_a_knocked_connector_rises_then_recovers_toward_its_share() -> None:
+    t = np.arange(0.0, 400.0, 0.1)
+    k = knocked_connector(t, 50.0, 2.0, 40.0, 0.4)
+    assert np.all(k[t < 50.0] == 0.0) and k.max() == pytest.approx(1.0, abs=1e-9)
+    assert k[-1] == pytest.approx(0.4, abs=0.01)
+
+
+def test_the_locking_strap_gives_less_per_newton_metre_under_load() -> None:
+    give = locking_strap_give(np.array([0.1, 10.0, 100.0]), 0.2, 10.0)
+    per_nm = give / np.array([0.1, 10.0, 100.0])
+    assert per_nm[0] == pytest.approx(0.2, rel=1e-3) and per_nm[0] > per_nm[1] > per_nm[2]
+    assert abs(give[2]) <= 0.2 * 10.0 + 1e-12
+
+
+def test_the_off_axis_weights_inertia_changes_along_the_range_with_its_centripetal_term() -> None:
+    rad = np.linspace(0.0, 1.0, 11)
+    zero_vel = off_axis_weight(rad, np.zeros(11), np.ones(11), 0.0, 1.0, 0.3)
+    np.testing.assert_allclose(zero_vel, 1.0 + 0.3 * (2.0 * rad - 1.0))
+    no_acc = off_axis_weight(rad, np.full(11, 2.0), np.zeros(11), 0.0, 1.0, 0.3)
+    np.testing.assert_allclose(no_acc, 0.5 * 0.6 * 4.0)
+
+
+def test_effects_are_sized_against_the_trials_noise_and_clean_trials_hold_none() -> None:
+    for kind in ("afo", "knee", "ankle"):
+        clean = generate_aa(kind, (), 5)
+        assert clean.effects == {} and NOISE_SD_NM[kind] * 0.8 <= clean.details["noise_sd_Nm"] <= NOISE_SD_NM[kind] * 1.25
+    burst = generate_aa("ankle", ("activation_burst",), 5)
+    sd = burst.details["noise_sd_Nm"]
+    assert 3.0 * sd <= burst.effects["activation_burst"] <= 5.0 * sd
+    delay = generate_aa("knee", ("time_delay",), 5)
+    assert 0.03 + 0.5 / 50.0 - 1e-9 <= delay.effects["time_delay"] <= 0.4 + 0.5 / 20.0 + 1e-9
