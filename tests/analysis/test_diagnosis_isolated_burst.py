@@ -9,7 +9,8 @@ trials with a slow wander (an ankle swept at 4–6 °/s with smooth turns; passi
 bend past an onset 30 % of the way out; the limb's weight through the benchmarks' segment tables; white noise plus a
 first-order process of 4–12 s at 0.8–1.3 × the white noise's SD): no burst may be named there. With a twitch added
 (Gaussian envelope, SD 0.06–0.2 s, peak 3–5 × the noise's whole SD) the least-squares search places the burst on the
-wander in most of its eight trials (2 named): a limit docs/validation.md states (thirty-fifth stop).
+wander in most of its eight trials (4 named, 2 of them in place): a limit docs/validation.md states (thirty-fifth
+stop).
 """
 
 from __future__ import annotations
