@@ -107,7 +107,7 @@ from .policy import (
     STRONG_MIN_HELDOUT_IMPROVEMENT,
 )
 from .result import Candidate, Diagnosis, magnitude
-from .transients import isolated_transient
+from .transients import TransientScan, isolated_transient
 
 
 def _stop_offset(cause: Cause) -> int:
@@ -134,6 +134,8 @@ class _Evidence:
     accepted: bool
     #: a burst's ΔBIC on the flexible baseline at that fit's own n_eff (NaN: not judged there)
     flexible_own_delta_bic: float = float("nan")
+    #: a burst's scan as one isolated event (None: not judged so, :meth:`_Search.burst_scan`)
+    isolated: TransientScan | None = None
 
 
 class _Search:
@@ -252,9 +254,8 @@ class _Search:
         # (development, 2nd–10th families, seeds 800000–800002: beside a single friction, damping or drift 7
         # spurious bursts; the isolated-event test below, tried there too at the thirty-fifth stop with the isolated
         # windows in the burst grid, named 18 more bursts of 168 development pairs but 7 spurious ones beside 168 single
-        # causes). And, as a stop, only when
-        # material: its peak at least MIN_PEAK_TO_NOISE × the flexible
-        # fit's residual RMS (a clean sixth-family knee, Student-t noise, had a 1.5× bump at ΔBIC −103; the bursts
+        # causes). And, as a stop, only when material: its peak at least MIN_PEAK_TO_NOISE × the flexible fit's residual
+        # RMS (a clean sixth-family knee, Student-t noise, had a 1.5× bump at ΔBIC −103; the bursts
         # found this way were 3.3–7.9×). Development: single bursts 31 → 38 of 54 named, pairs with a burst 50 → 50
         # of 126 right (80 of their bursts named, 76 before), clean knee and ankle trials 158 → 158 of 180
         # Its timing is searched again on the flexible baseline: on the parametric one a passive curve outside the
@@ -262,7 +263,7 @@ class _Search:
         # at the trial's start, 1–2 s long and 2–6 N·m, against the true 0.4–0.8 N·m at 9–51 s), and the burst the
         # test then weighs on the free curve is not the one in the data. Development, spent families 13–18 (knee and
         # ankle): single bursts 43 → 57 of 96 named, clean trials 184 → 183 of 240, pairs with a burst 24 → 24 of 84
-        of_time, d_own = False, float("nan")
+        of_time, d_own, scan = False, float("nan"), None
         if added.name == "activation_burst" and ref == ("none",):
             flex_model = self.flexible(model, searched=True)
             n_flex = effective_n(self.flex.torque - flex_model.prediction)
@@ -270,8 +271,10 @@ class _Search:
             d_own = bic(flex_model, n_flex) - bic(self.flexible(ref), n_flex)
             of_time = d_own < -need and peak >= MIN_PEAK_TO_NOISE
             # or when it stands out of that fit's residual as one isolated event at its own time scale (the criterion's
-            # n_eff is set by the slowest noise, which a short burst need not stand out of: burst_is_isolated)
-            of_time = of_time or (peak >= MIN_PEAK_TO_NOISE and self.burst_is_isolated(flex_model, ref))
+            # n_eff is set by the slowest noise, which a short burst need not stand out of: burst_scan)
+            if peak >= MIN_PEAK_TO_NOISE:
+                scan = self.burst_scan(flex_model, ref)
+                of_time = of_time or scan.isolated
         # a second way in, by strong out-of-sample evidence: held-out blocks predicted far better
         # (gain > STRONG_HELDOUT_GAIN) while the in-sample criterion does not speak against it. A
         # local effect (a stop over the last degrees) barely moves the whole-trial BIC, whose
@@ -311,16 +314,17 @@ class _Search:
             # few degrees (a toe region, fibres whose onsets spread over 1–4°), which this trial cannot tell apart. Named,
             # it was a stop in 17 and not one in 27 of 686 development trials (thirty-fourth stop, docs/validation.md)
             self.stops_not_told_from_smooth.add("+".join(model))
-        return _Evidence(d, gain, d_flex, n_eff, ho, ok, d_own)
+        return _Evidence(d, gain, d_flex, n_eff, ho, ok, d_own, scan)
 
-    def burst_is_isolated(self, flex_model: CauseFit, ref: tuple[str, ...]) -> bool:
-        """Whether the burst of ``flex_model`` (a model with a burst fitted on the flexible baseline, its timing searched
-        there) stands out of the residual of ``ref`` on that baseline as one isolated event at its own time scale
-        (:func:`transients.isolated_transient` at :data:`ISOLATED_BURST_ALPHA`, over the burst grid's durations)."""
+    def burst_scan(self, flex_model: CauseFit, ref: tuple[str, ...]) -> TransientScan:
+        """How far the burst of ``flex_model`` (a model with a burst fitted on the flexible baseline, its timing searched
+        there) stands out of the residual of ``ref`` on that baseline at its own time scale; ``.isolated`` says whether
+        it is one isolated event (:func:`transients.isolated_transient` at :data:`ISOLATED_BURST_ALPHA`, over the burst
+        grid's durations)."""
         residual = self.flex.torque - self.flexible(ref).prediction
         return isolated_transient(self.flex.t, residual, flex_model.params["burst_start_s"],
                                   flex_model.params["burst_duration_s"], ISOLATED_BURST_ALPHA,
-                                  len(BURST_GRID_DURATIONS_S)).isolated
+                                  len(BURST_GRID_DURATIONS_S))
 
     def stop_is_a_kink(self, model: tuple[str, ...], ref: tuple[str, ...]) -> bool:
         """Whether the joint's stop in ``model`` (``ref`` plus the stop) is a kink in the torque–angle curve that a free
@@ -593,11 +597,14 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
                                ev.delta_bic if ev else float("nan"),
                                ho / base_ho if math.isfinite(ho) and base_ho > 0 else float("nan"),
                                bool(ev and ev.accepted),
-                               ("transient: judged by the criterion only" if CAUSES[n].transient else "")
+                               ("transient: judged in-sample, no held-out blocks;" if CAUSES[n].transient else "")
                                + ("" if ev is None or not math.isfinite(ev.flexible_delta_bic) else
                                   f" ΔBIC {ev.flexible_delta_bic:.1f} against a free curve in angle")
                                + ("" if ev is None or not math.isfinite(ev.flexible_own_delta_bic) else
-                                  f" ({ev.flexible_own_delta_bic:.1f} at that fit's own n_eff)")))
+                                  f" ({ev.flexible_own_delta_bic:.1f} at that fit's own n_eff)")
+                               + ("" if ev is None or ev.isolated is None else
+                                  f"; as one event at its own time scale z {ev.isolated.z_event:.1f} against a level of "
+                                  f"{ev.isolated.z_critical:.1f}, elsewhere at most {ev.isolated.z_elsewhere:.1f}")))
     accepted = [n for n in single if single[n].accepted]
     if accepted:
         # rank at one noise model for all: each cause's own residual gives its own n_eff, and a cause that

@@ -63,7 +63,7 @@ AFO_STOP_MAX_DELTA_BIC = 3.0
 #: benchmarks use) this removed 3 of 5 false stops on 300 clean ankle trials, 1 of 1 on 300 knee and
 #: 1 of 3 on 600 AFO trials, while the 240 true stops named (3–5× the noise) had fitted ratios ≥ 2.16
 MIN_PEAK_TO_NOISE = 2.0
-#: a burst's own test beside the criterion (engine._Search.burst_is_isolated): the family-wise false-alarm level of
+#: a burst's own test beside the criterion (engine._Search.burst_scan): the family-wise false-alarm level of
 #: its matched filter scanned over the whole residual (transients.isolated_transient). The criterion judges every cause
 #: at the residual's effective sample size, n / τ with τ its integrated autocorrelation time, which slow noise (a
 #: pink or a 10 s wander) sets: on the twenty-fifth family's twitches (0.2–0.7 s) n_eff was 78–173 of 4448–21603

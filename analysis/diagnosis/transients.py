@@ -2,7 +2,7 @@
 scanned over a residual and put in units of its own robust spread.
 
 It judges whether an activation burst the search placed stands out of the residual as a single isolated event
-(engine._Search.burst_is_isolated). The criterion judges every cause at the residual's effective
+(engine._Search.burst_scan). The criterion judges every cause at the residual's effective
 sample size, which the slowest noise sets; a short burst does not have to stand out of noise that slow, only of the
 noise at its own time scale, which is what the scan's spread measures, whatever the noise's spectrum.
 """

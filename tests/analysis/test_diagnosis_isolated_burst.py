@@ -91,6 +91,8 @@ def test_bursts_the_criterion_missed_in_slow_noise_are_named_alone_and_sized() -
         if _named(d) != {"activation_burst"}:
             continue
         alone += 1
+        note = next(c.note for c in d.candidates if c.cause == "activation_burst")
+        assert "as one event at its own time scale" in note, note  # the report says which test named it
         fitted, truth = abs(d.parameters["burst_amplitude_Nm"]), g.effects["activation_burst"]
         held += abs(fitted - truth) <= 1.96 * d.parameters_se["burst_amplitude_Nm"]
         within += abs(fitted / truth - 1.0) < 0.3
