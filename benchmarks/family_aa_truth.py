@@ -4,10 +4,16 @@ the next change's frozen engine.
 
 The second to twenty-sixth families (:mod:`benchmarks.family_b_truth` … ``family_z_truth``) are development data
 once run. This one draws every cause from a law the engine's library does not hold (checked against
-:mod:`analysis.diagnosis.causes` at the thirty-fifth stop's change; where an earlier family used a near relation it is
-said) and keeps every nuisance below what the diagnosis should name. Nothing is imported from ``analysis``, nor any
-physics from the other generators (only the scoring contract of :mod:`benchmarks.family_b_truth` and the scaffolding
-of :mod:`benchmarks.family_scaffold`).
+:mod:`analysis.diagnosis.causes` at the thirty-fifth stop's change) and keeps every nuisance below what the diagnosis
+should name. Laws spent families already used, found on review (the damping, a springpot as the tenth and nineteenth
+families', was replaced then by an eddy-current brake, no earlier family's): the power-law ends are the twelfth
+family's (k·x^p, p 2.5–4); the clonus is a near relation of the eighth's (rectified beats under a rising envelope); the
+centre of mass sliding with the angle is the thirteenth's limb-weight error; the off-axis weight a near relation of the
+twelfth's pad sliding along the segment; the knocked connector of the seventh's knocked cable; the tremor on the
+orthosis's bends is the nineteenth's; Laplace noise the tenth's and twenty-second's. A run of this family measures
+those causes on shapes the development data held; revise them before its run or read its figures per cause. Nothing is
+imported from ``analysis``, nor any physics from the other generators (only the scoring contract of
+:mod:`benchmarks.family_b_truth` and the scaffolding of :mod:`benchmarks.family_scaffold`).
 
 - Passive moment: at each end of a joint's range a power law in the bend past an onset, A·x̄^p (p 2.2–3.5), x̄ the
   softplus of the angle past the onset over 1–3°; the steep end sized by its torque at the range's end, the onset
@@ -20,9 +26,8 @@ of :mod:`benchmarks.family_scaffold`).
 - Causes, each sized so its largest torque is 3–5 × the noise SD (a delay and a compliance by their ranges):
   * friction: a worn bearing, its level varying with the angle, (1 + d·sin(2πθ/P))·v/√(v² + ε²) (d 0.2–0.5, P 10–30°,
     ε 0.2–0.8 °/s); magnitude: its mean |F| over the moving samples;
-  * damping: a springpot (a fractional element of order α 0.6–0.85), η·D^α θ, the fractional integral of order 1 − α
-    of θ̇ by Grünwald–Letnikov over 10 s of memory (the library's nearest law: a damping of the velocity through a
-    first-order relaxation); magnitude: the least-squares slope of its torque on θ̇;
+  * damping: an eddy-current brake, b·v/(1 + (v/v_c)²) with v_c 1.5–3 × the trial's peak speed (linear at low speed,
+    flattening toward v_c); magnitude: the least-squares slope of its torque on θ̇;
   * stop: a two-stage bumper, a soft pad over its first 0.5–2° and a contact 4–10 × stiffer past it (joined over
     0.3°), anywhere in the last 5–30 % of either end of a joint's range (the AFO's at the top of its bend); named only;
   * delay: the torque sampled and held at 20–50 Hz and delivered 0.03–0.4 s late with ±5–20 ms of jitter (a bus's
@@ -71,8 +76,6 @@ from .family_scaffold import (
 NOISE_SD_NM = {"afo": 0.07, "knee": 0.17, "ankle": 0.13}
 #: how far (deg) an end's onset moves per degree of the other joint's angle away from its middle setting
 COUPLING_SHIFT = (0.05, 0.2)
-#: the springpot's memory (s) and the grid (Hz) its Grünwald–Letnikov sum runs on
-SPRINGPOT_MEMORY_S, SPRINGPOT_GRID_HZ = 10.0, 50.0
 
 
 def power_end(x_deg: np.ndarray, onset_smoothing_deg: float, exponent: float) -> np.ndarray:
@@ -144,19 +147,11 @@ def worn_bearing_friction(deg: np.ndarray, vel_deg_s: np.ndarray, depth: float, 
     return level * v / np.sqrt(v * v + epsilon_deg_s**2)
 
 
-def springpot(vel: np.ndarray, t: np.ndarray, order: float) -> np.ndarray:
-    """D^α of the angle (rad/s^α) as the fractional integral of order 1 − α of the angular velocity ``vel`` (rad/s;
-    at rest before the trial), by Grünwald–Letnikov on a :data:`SPRINGPOT_GRID_HZ` grid with :data:`SPRINGPOT_MEMORY_S`
-    of memory, interpolated back to ``t`` (s); α = ``order``. Weights g_k = g_{k−1}(1 − α/k), scaled by h^{1−α}."""
-    h = 1.0 / SPRINGPOT_GRID_HZ
-    grid = np.arange(float(t[0]), float(t[-1]) + h, h)
-    v = np.interp(grid, t, vel)
-    taps = int(SPRINGPOT_MEMORY_S / h)
-    g = np.ones(taps)
-    for k in range(1, taps):
-        g[k] = g[k - 1] * (1.0 - order / k)
-    d = np.convolve(np.concatenate([np.zeros(taps - 1), v]), g, mode="valid") * h ** (1.0 - order)
-    return np.interp(t, grid, d)
+def eddy_current_brake(vel: np.ndarray, critical: float) -> np.ndarray:
+    """An eddy-current brake's torque per unit low-speed coefficient: v/(1 + (v/v_c)²) (v_c = ``critical``, in the
+    velocity's units), linear at low speed, peaking at v_c."""
+    v = np.asarray(vel, dtype=float)
+    return v / (1.0 + (v / critical) ** 2)
 
 
 def two_stage_stop(deg: np.ndarray, at_deg: float, high: bool, pad_deg: float, ratio: float) -> np.ndarray:
@@ -297,13 +292,13 @@ def generate_aa(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Fami
         friction = size() * unit / max(float(np.max(np.abs(unit))), 1e-12)
         torque = torque + friction
         truth["coulomb_friction"] = float(np.mean(np.abs(friction[moving])))
-    if "viscous_damping" in effects:
-        order = float(rng.uniform(0.6, 0.85))
-        unit = springpot(vel, t, order)
+    if "viscous_damping" in effects:  # an eddy-current brake, its critical speed 1.5–3 × the trial's peak speed
+        critical = float(rng.uniform(1.5, 3.0)) * max(float(np.max(np.abs(vel))), 1e-9)
+        unit = eddy_current_brake(vel, critical)
         damping = size() * unit / max(float(np.max(np.abs(unit))), 1e-12)
         torque = torque + damping
         truth["viscous_damping"] = float(np.dot(vel, damping) / np.dot(vel, vel))
-        details.update(springpot_order=order)
+        details.update(critical_speed_rad_s=critical)
     if "inertia" in effects:
         unit = off_axis_weight(rad, vel, acc, np.radians(bottom), np.radians(top),
                                float(rng.uniform(0.2, 0.4)) * float(rng.choice([-1.0, 1.0])))
@@ -343,5 +338,5 @@ def generate_aa(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Fami
 
 
 __all__ = ["EFFECTS", "MAGNITUDE_KEY", "NOISE_SD_NM", "FamilyBTrial", "clonus", "generate_aa", "held_late",
-           "knocked_connector", "locking_strap_give", "off_axis_weight", "paused_ramps", "power_end", "springpot",
+           "eddy_current_brake", "knocked_connector", "locking_strap_give", "off_axis_weight", "paused_ramps", "power_end",
            "strap_joined_spring", "tremulous_bends", "two_stage_stop", "worn_bearing_friction"]

@@ -67,7 +67,7 @@ MIN_PEAK_TO_NOISE = 2.0
 #: its matched filter scanned over the whole residual (transients.isolated_transient). The criterion judges every cause
 #: at the residual's effective sample size, n / τ with τ its integrated autocorrelation time, which slow noise (a
 #: pink or a 10 s wander) sets: on the twenty-fifth family's twitches (0.2–0.7 s) n_eff was 78–173 of 4448–21603
-#: samples and bursts of 3–5× the noise, fitted within 5 % of their amplitude and 0.1 s of their start, stayed at
+#: samples and bursts of 3–5× the noise, fitted at 0.74–1.03 of their peak and within 0.11 s of their start, stayed at
 #: ΔBIC +6 to +11. Noise that slow is not what a short burst has to stand out of: the scan measures the noise at the
 #: burst's own time scale (each window's mean and slope taken out) and at its own place in the trial
 ISOLATED_BURST_ALPHA = 0.01

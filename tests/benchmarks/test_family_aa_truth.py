@@ -3,14 +3,13 @@ shares: test_family_e_f_contract)."""
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pytest
 
 from benchmarks.family_aa_truth import (
     NOISE_SD_NM,
     clonus,
+    eddy_current_brake,
     generate_aa,
     held_late,
     knocked_connector,
@@ -18,7 +17,6 @@ from benchmarks.family_aa_truth import (
     off_axis_weight,
     paused_ramps,
     power_end,
-    springpot,
     strap_joined_spring,
     tremulous_bends,
     two_stage_stop,
@@ -72,19 +70,12 @@ def test_the_worn_bearing_resists_the_motion_with_a_level_varying_with_the_angle
     assert np.all(worn_bearing_friction(deg, np.full(deg.size, -5.0), 0.4, 20.0, 0.5) < 0)
 
 
-def test_the_springpot_lies_between_a_spring_and_a_dashpot() -> None:
-    """On a sine of 0.5 Hz, D^α leads the angle by α·90° and scales by ω^α (its steady state)."""
-    rate = 200.0
-    t = np.arange(0.0, 40.0, 1.0 / rate)
-    omega = 2.0 * np.pi * 0.5
-    angle = np.sin(omega * t)
-    out = springpot(omega * np.cos(omega * t), t, 0.7)
-    late = t > 15.0
-    basis = np.column_stack([np.sin(omega * t[late]), np.cos(omega * t[late])])
-    a, b = np.linalg.lstsq(basis, out[late], rcond=None)[0]
-    assert math.hypot(a, b) == pytest.approx(omega**0.7, rel=0.03)
-    assert math.degrees(math.atan2(b, a)) == pytest.approx(0.7 * 90.0, abs=3.0)
-    assert np.allclose(out[t < 0.0], 0.0) and angle.size == out.size
+def test_the_eddy_current_brake_is_linear_at_low_speed_and_peaks_at_its_critical_speed() -> None:
+    v = np.array([1e-4, 1.0, 2.0, 4.0])
+    out = eddy_current_brake(v, 2.0)
+    assert out[0] == pytest.approx(1e-4, rel=1e-6) and out[2] == pytest.approx(1.0) and out[2] > out[1] > out[0]
+    assert out[3] < out[2]
+    np.testing.assert_allclose(eddy_current_brake(-v, 2.0), -out)
 
 
 def test_the_bumper_is_soft_through_its_pad_and_stiff_past_it() -> None:
