@@ -5,23 +5,24 @@ the next change's frozen engine.
 The second to twenty-sixth families (:mod:`benchmarks.family_b_truth` … ``family_z_truth``) are development data
 once run. This one draws every cause from a law the engine's library does not hold (checked against
 :mod:`analysis.diagnosis.causes` at the thirty-fifth stop's change) and keeps every nuisance below what the diagnosis
-should name. Laws spent families already used, found on review (the damping, a springpot as the tenth and nineteenth
-families', was replaced then by an eddy-current brake, no earlier family's): the power-law ends are the twelfth
-family's (k·x^p, p 2.5–4); the clonus is a near relation of the eighth's (rectified beats under a rising envelope); the
-centre of mass sliding with the angle is the thirteenth's limb-weight error; the off-axis weight a near relation of the
-twelfth's pad sliding along the segment; the knocked connector of the seventh's knocked cable; the tremor on the
-orthosis's bends is the nineteenth's; Laplace noise the tenth's and twenty-second's. A run of this family measures
-those causes on shapes the development data held; revise them before its run or read its figures per cause. Nothing is
-imported from ``analysis``, nor any physics from the other generators (only the scoring contract of
-:mod:`benchmarks.family_b_truth` and the scaffolding of :mod:`benchmarks.family_scaffold`).
+should name. Revised at the thirty-sixth stop, still with nothing diagnosed on it, after a grep of every spent family's
+laws: the power-law ends (the twelfth, twentieth and twenty-first families' form) became Yeoh's hyperelastic law; the
+centre of mass sliding with the angle (the thirteenth's) became blood pooling over time; the knocked connector (the
+seventh's and twenty-fifth's) a battery running down; the tremor on the orthosis's bends (the nineteenth's) was
+dropped; the Laplace noise with hum and spikes (the tenth's and twenty-second's) became noise growing with the drive's
+speed. Near relations kept: the clonus (the eighth family's beats under a rising envelope), the off-axis weight (the
+twelfth's pad sliding along the segment, an inertia there). Nothing is imported from ``analysis``, nor any physics
+from the other generators (only the scoring contract of :mod:`benchmarks.family_b_truth` and the scaffolding of
+:mod:`benchmarks.family_scaffold`).
 
-- Passive moment: at each end of a joint's range a power law in the bend past an onset, A·x̄^p (p 2.2–3.5), x̄ the
-  softplus of the angle past the onset over 1–3°; the steep end sized by its torque at the range's end, the onset
-  toward a two-joint muscle moved by the other joint's angle; a small linear term. The AFO: a spring joined by an
-  elastic strap past 4–10° of bend, θ + r·w·ln(1 + e^{(θ − θ_j)/w}) (r 0.3–0.8, w 1–2°).
+- Passive moment: at each end of a joint's range Yeoh's (1993) hyperelastic law in uniaxial tension,
+  C₁·2(λ² − 1/λ)(1 + 2c₂(I₁ − 3) + 3c₃(I₁ − 3)²), I₁ = λ² + 2/λ, the stretch λ = 1 + x̄/L (x̄ the softplus of the angle
+  past an onset over 1–3°, L 0.5–1 × the end's reach, c₂ 0–0.5, c₃ 0.05–0.5); the steep end sized by its torque at the
+  range's end, the onset toward a two-joint muscle moved by the other joint's angle; a small linear term. The AFO: a
+  spring joined by an elastic strap past 4–10° of bend, θ + r·w·ln(1 + e^{(θ − θ_j)/w}) (r 0.3–0.8, w 1–2°).
 - Motion: constant-speed ramps of 3–7 °/s with a 2–4 % speed ripple at 1–3 Hz (a servo's cogging), pauses of 0.2–2 s
-  at every turn, turns smoothed over 0.15 s; 3–4 cycles. The AFO: 5–9 bends to 10–20° of 1–2.5 s each way, a hand's
-  tremor of 8–12 Hz and 0.05–0.2° on the angle.
+  at every turn, turns smoothed over 0.15 s; 3–4 cycles. The AFO: 5–9 half-cosine bends to 10–20° of 1–2.5 s each
+  way.
 - Limb: segment parameters drawn per trial (family_scaffold.draw_segments).
 - Causes, each sized so its largest torque is 3–5 × the noise SD (a delay and a compliance by their ranges):
   * friction: a worn bearing, its level varying with the angle, (1 + d·sin(2πθ/P))·v/√(v² + ε²) (d 0.2–0.5, P 10–30°,
@@ -35,17 +36,17 @@ imported from ``analysis``, nor any physics from the other generators (only the 
   * activation: clonus, beats of 5–8 Hz riding on a tonic part, (0.6 + 0.4·sin 2πf(t − t₀)) under a sin² envelope of
     0.6–2 s (the library's Hann burst is that envelope without the beats), anywhere in 10–85 % of the trial, of either
     sign; magnitude: its peak;
-  * limb-weight error: the shank's (knee) or foot's (ankle) centre of mass sliding along the segment as the angle
-    changes (soft tissue falling; 1–3 cm over the range, either way), its moment m·g·Δr(θ)·cos ψ; magnitude: its peak;
-  * drift: a connector knocked at 20–80 % of the trial, the offset rising over 1–3 s and recovering exponentially
-    (30–60 s) toward 30–70 % of it; named only;
+  * limb-weight error: blood pooling in the hanging shank (knee) or foot (ankle), its weight growing over the trial as
+    1 − e^{−t/τ} (τ 30–120 s), its moment that times the segment's weight moment's shape; magnitude: its peak;
+  * drift: a bridge amplifier's battery running down, 1/(1 − κ·t/T) − 1 (κ 0.6–0.9, T the trial's length): flat for
+    most of the trial, rising ever faster toward its end, of either sign; named only;
   * series compliance: a strap that locks, its give c·τ_s·tanh(τ/τ_s) (τ_s 0.5–1 × the largest torque; the twenty-
     fifth family's strap softened, this one stiffens); magnitude: the least-squares slope of the give on the torque;
   * inertia error: a weight strapped off the segment's axis, its inertia J(θ) = J₀(1 + κ·u), u from −1 to 1 over the
     range (κ ±0.2–0.4), torque J(θ)·θ̈ + ½·J′(θ)·θ̇²; magnitude: the least-squares coefficient of its torque on θ̈.
-- Nuisances, each below what should be named: 100–1000 Hz; Laplace (heavy-tailed) noise, mains hum (50 or 60 Hz, at
-  the sampling rate's alias) of 0.2–0.5 × the noise SD, single-sample spikes (up to 0.05 % of rows, 4–8 × the SD); a
-  constant torque gain error of ±1 %; quantised torque and angle; the clock fast or slow by up to 0.02 % with jitter;
+- Nuisances, each below what should be named: 100–1000 Hz; Gaussian noise growing with the drive's speed (its SD
+  1.3–1.8 × the resting one at the peak speed: the drive's switching interference); a constant torque gain error of
+  ±1 %; quantised torque and angle; the clock fast or slow by up to 0.02 % with jitter;
   rows dropped singly (0–1 %) and in runs; NaN cells in any column (≤ 0.3 %, time included); torque and angle offsets.
 
 Angles in degrees at the edges, SI in the returned arrays.
@@ -78,11 +79,17 @@ NOISE_SD_NM = {"afo": 0.07, "knee": 0.17, "ankle": 0.13}
 COUPLING_SHIFT = (0.05, 0.2)
 
 
-def power_end(x_deg: np.ndarray, onset_smoothing_deg: float, exponent: float) -> np.ndarray:
-    """A power-law end per unit amplitude: x̄^p, x̄ = s·ln(1 + e^{x/s}) the softplus of the angle ``x_deg`` past the
-    onset over s = ``onset_smoothing_deg``, p = ``exponent``."""
+def yeoh_end(x_deg: np.ndarray, onset_smoothing_deg: float, reach_deg: float, c2: float, c3: float) -> np.ndarray:
+    """An end per unit C₁ following Yeoh's (1993) hyperelastic law in uniaxial tension,
+    2(λ² − 1/λ)·(1 + 2c₂(I₁ − 3) + 3c₃(I₁ − 3)²) − its value at λ = 1 (zero), I₁ = λ² + 2/λ, the stretch
+    λ = 1 + x̄/L with x̄ = s·ln(1 + e^{x/s}) the softplus of the angle ``x_deg`` past the onset over s =
+    ``onset_smoothing_deg`` and L = ``reach_deg``; c₂ = ``c2``, c₃ = ``c3`` (≥ 0: it stiffens as a polynomial in the
+    stretch invariant, neither a power of the angle nor an exponential)."""
     x = np.asarray(x_deg, dtype=float) / onset_smoothing_deg
-    return np.asarray((onset_smoothing_deg * np.logaddexp(0.0, x)) ** exponent, dtype=float)
+    stretch = 1.0 + onset_smoothing_deg * np.logaddexp(0.0, x) / reach_deg
+    i1 = stretch**2 + 2.0 / stretch
+    return np.asarray(2.0 * (stretch**2 - 1.0 / stretch) * (1.0 + 2.0 * c2 * (i1 - 3.0) + 3.0 * c3 * (i1 - 3.0) ** 2),
+                      dtype=float)
 
 
 def strap_joined_spring(deg: np.ndarray, join_deg: float, ratio: float, width_deg: float) -> np.ndarray:
@@ -118,9 +125,8 @@ def paused_ramps(rng: np.random.Generator, lo: float, hi: float, rate: float) ->
     return _smoothed(np.concatenate(parts), rate, 0.15)
 
 
-def tremulous_bends(rng: np.random.Generator, rate: float) -> np.ndarray:
-    """AFO bends (deg): 5–9 half-cosine bends to 10–20° of 1–2.5 s each way, back to 0–2° (0° after the last), with a
-    hand's tremor of 8–12 Hz and 0.05–0.2° while bent."""
+def hand_bends(rng: np.random.Generator, rate: float) -> np.ndarray:
+    """AFO bends (deg): 5–9 half-cosine bends to 10–20° of 1–2.5 s each way, back to 0–2° (0° after the last)."""
     parts = [np.zeros(int(0.5 * rate))]
     base = 0.0
     count = int(rng.integers(5, 10))
@@ -132,11 +138,7 @@ def tremulous_bends(rng: np.random.Generator, rate: float) -> np.ndarray:
             parts.append(a + (b - a) * 0.5 * (1.0 - np.cos(np.pi * np.arange(1, n + 1) / n)))
         base = back
     parts.append(np.zeros(int(0.5 * rate)))
-    deg = np.concatenate(parts)
-    t = np.arange(deg.size) / rate
-    tremor = float(rng.uniform(0.05, 0.2)) * np.sin(2.0 * np.pi * float(rng.uniform(8.0, 12.0)) * t
-                                                     + float(rng.uniform(0.0, 2.0 * np.pi)))
-    return deg + tremor * np.clip(deg / 5.0, 0.0, 1.0)
+    return np.concatenate(parts)
 
 
 def worn_bearing_friction(deg: np.ndarray, vel_deg_s: np.ndarray, depth: float, period_deg: float,
@@ -185,13 +187,17 @@ def clonus(t: np.ndarray, start_s: float, envelope_s: float, beat_hz: float) -> 
     return shape / max(float(np.max(shape)), 1e-12)
 
 
-def knocked_connector(t: np.ndarray, at_s: float, rise_s: float, recovery_s: float, settle_share: float) -> np.ndarray:
-    """A connector knocked at ``at_s``: an offset per unit rising over ``rise_s`` (a half cosine), then recovering
-    exponentially with ``recovery_s`` toward ``settle_share`` of it."""
-    u = np.clip((np.asarray(t, dtype=float) - at_s) / rise_s, 0.0, 1.0)
-    rise = 0.5 * (1.0 - np.cos(np.pi * u))
-    after = np.clip(np.asarray(t, dtype=float) - at_s - rise_s, 0.0, None)
-    return rise * (settle_share + (1.0 - settle_share) * np.exp(-after / recovery_s))
+def battery_sag(t: np.ndarray, end_s: float, knee: float) -> np.ndarray:
+    """A bridge amplifier's offset per unit, its battery running down: 1/(1 − κ·t/T) − 1 normalised to 1 at T =
+    ``end_s`` (κ = ``knee`` < 1): flat for most of the trial, rising ever faster toward its end."""
+    u = np.clip(np.asarray(t, dtype=float) / end_s, 0.0, 1.0)
+    return (1.0 / (1.0 - knee * u) - 1.0) / (1.0 / (1.0 - knee) - 1.0)
+
+
+def venous_pooling(t: np.ndarray, time_constant_s: float) -> np.ndarray:
+    """The segment's extra mass per unit of its final gain as blood pools in it while it hangs: 1 − e^{−t/τ}
+    (τ = ``time_constant_s``); the weight's moment error is this times the segment's weight moment shape."""
+    return 1.0 - np.exp(-np.asarray(t, dtype=float) / time_constant_s)
 
 
 def locking_strap_give(torque: np.ndarray, compliance: float, lock_nm: float) -> np.ndarray:
@@ -212,8 +218,8 @@ def _elastic(kind: str, deg: np.ndarray, fixed: dict[str, float], c: dict[str, A
     if kind == "afo":
         return c["k"] * strap_joined_spring(deg, c["join"], c["ratio"], c["width"])
     on_low, on_high = coupled_onsets(kind, c["on_low"], c["on_high"], c["shift"], fixed)
-    return (-c["a_low"] * power_end(on_low - deg, c["smooth"], c["p_low"])
-            + c["a_high"] * power_end(deg - on_high, c["smooth"], c["p_high"])
+    return (-c["a_low"] * yeoh_end(on_low - deg, c["smooth"], c["reach_low"], c["c2"], c["c3"])
+            + c["a_high"] * yeoh_end(deg - on_high, c["smooth"], c["reach_high"], c["c2"], c["c3"])
             + c["linear"] * (deg - 0.5 * (c["lo"] + c["hi"])))
 
 
@@ -227,24 +233,24 @@ def _coefficients(rng: np.random.Generator, kind: str, lo: float, hi: float) -> 
     small = (1.0, 4.0)
     on_low, on_high = lo + rng.uniform(0.2, 0.45) * span, hi - rng.uniform(0.2, 0.45) * span
     smooth = float(rng.uniform(1.0, 3.0))
-    p_low, p_high = float(rng.uniform(2.2, 3.5)), float(rng.uniform(2.2, 3.5))
+    # the contour L: the end's reach over 0.5–1 (a stretch of 2–3 at the range's end); Yeoh's c₂, c₃ per subject
+    reach_low = (on_low - lo) * float(rng.uniform(0.5, 1.0))
+    reach_high = (hi - on_high) * float(rng.uniform(0.5, 1.0))
+    c2, c3 = float(rng.uniform(0.0, 0.5)), float(rng.uniform(0.05, 0.5))
     t_low = rng.uniform(*big) if kind == "knee" else rng.uniform(*small)
     t_high = rng.uniform(*small) if kind == "knee" else rng.uniform(*big)
-    return {"a_low": t_low / float(power_end(np.array(on_low - lo), smooth, p_low)),
-            "a_high": t_high / float(power_end(np.array(hi - on_high), smooth, p_high)),
-            "p_low": p_low, "p_high": p_high, "smooth": smooth, "on_low": on_low, "on_high": on_high,
+    return {"a_low": t_low / float(yeoh_end(np.array(on_low - lo), smooth, reach_low, c2, c3)),
+            "a_high": t_high / float(yeoh_end(np.array(hi - on_high), smooth, reach_high, c2, c3)),
+            "reach_low": reach_low, "reach_high": reach_high, "c2": c2, "c3": c3, "smooth": smooth,
+            "on_low": on_low, "on_high": on_high,
             "shift": float(rng.uniform(*COUPLING_SHIFT)), "linear": float(rng.uniform(0.0, 0.02)), "lo": lo, "hi": hi}
 
 
-def _lab_noise(rng: np.random.Generator, t: np.ndarray, sd: float) -> np.ndarray:
-    """Laplace noise of SD ``sd`` (N·m), mains hum of 0.2–0.5 × it at 50 or 60 Hz, and single-sample spikes (up to
-    0.05 % of rows, 4–8 × it, either sign)."""
-    noise = rng.laplace(0.0, sd / np.sqrt(2.0), t.size)
-    hum_hz = float(rng.choice([50.0, 60.0]))
-    noise += float(rng.uniform(0.2, 0.5)) * sd * np.sin(2.0 * np.pi * hum_hz * t + float(rng.uniform(0.0, 2 * np.pi)))
-    spikes = rng.random(t.size) < float(rng.uniform(0.0, 5e-4))
-    noise[spikes] += rng.uniform(4.0, 8.0, int(spikes.sum())) * sd * rng.choice([-1.0, 1.0], int(spikes.sum()))
-    return noise
+def drive_noise(rng: np.random.Generator, vel: np.ndarray, sd: float) -> np.ndarray:
+    """Gaussian noise (N·m) whose SD is ``sd`` at rest and 1.3–1.8 × it at the trial's peak speed, in proportion to
+    the speed between (the motor drive's interference grows with its current's switching)."""
+    speed = np.abs(np.asarray(vel, dtype=float)) / max(float(np.max(np.abs(vel))), 1e-12)
+    return rng.normal(0.0, 1.0, speed.size) * sd * (1.0 + float(rng.uniform(0.3, 0.8)) * speed)
 
 
 def generate_aa(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> FamilyBTrial:
@@ -254,7 +260,7 @@ def generate_aa(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Fami
     subject = draw_subject(rng)
     seg = draw_segments(rng)
     fixed, lo, hi, deg = protocol_set_up(rng, kind, lambda r, a, b: paused_ramps(r, a, b, rate),
-                                         lambda r: tremulous_bends(r, rate))
+                                         lambda r: hand_bends(r, rate))
     coef = _coefficients(rng, kind, lo, hi)
     t, rad, vel, acc = kinematics(deg, rate)
     sd = NOISE_SD_NM[kind] * rng.uniform(0.8, 1.25)
@@ -278,11 +284,8 @@ def generate_aa(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Fami
     load = limb_load(kind, joint, fixed, subject["mass_kg"], subject["shank_length_m"], subject["foot_length_m"], seg,
                      GRAVITY)
     torque = _elastic(kind, joint_deg, fixed, coef) + load.moment_nm + load.inertia_kgm2 * acc
-    if "gravity_error" in effects:  # the segment's centre of mass sliding along it with the angle
-        mass = load.shank_kg if kind == "knee" else load.foot_kg
-        u = (2.0 * joint_deg - lo - hi) / (hi - lo)
-        slide = float(rng.uniform(0.01, 0.03)) * float(rng.choice([-1.0, 1.0])) * 0.5 * (1.0 + u)
-        unit = mass * GRAVITY * slide * np.cos(load.direction_rad)
+    if "gravity_error" in effects:  # blood pooling in the hanging segment: its weight growing over the trial
+        unit = venous_pooling(t, float(rng.uniform(30.0, 120.0))) * np.cos(load.direction_rad)
         error = size() * unit / max(float(np.max(np.abs(unit))), 1e-12)
         torque = torque + error
         truth["gravity_error"] = float(np.max(np.abs(error)))
@@ -322,21 +325,20 @@ def generate_aa(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Fami
         truth["activation_burst"] = peak
         details.update(clonus_start_s=start)
     if "sensor_drift" in effects:
-        knock = knocked_connector(t, float(rng.uniform(0.2, 0.8)) * float(t[-1]), float(rng.uniform(1.0, 3.0)),
-                                  float(rng.uniform(30.0, 60.0)), float(rng.uniform(0.3, 0.7)))
-        torque = torque + size() * float(rng.choice([-1.0, 1.0])) * knock / max(float(np.max(knock)), 1e-12)
+        sag = battery_sag(t, float(t[-1]), float(rng.uniform(0.6, 0.9)))
+        torque = torque + size() * float(rng.choice([-1.0, 1.0])) * sag / max(float(np.max(sag)), 1e-12)
         truth["sensor_drift"] = None
     if "time_delay" in effects:
         torque, delay = held_late(torque, t, float(rng.uniform(0.03, 0.4)), float(rng.uniform(0.005, 0.02)),
                                   float(rng.uniform(20.0, 50.0)), rng)
         truth["time_delay"] = delay
-    torque = torque * (1.0 + float(rng.uniform(-0.01, 0.01))) + _lab_noise(rng, t, sd) + rng.uniform(-1.0, 1.0)
+    torque = torque * (1.0 + float(rng.uniform(-0.01, 0.01))) + drive_noise(rng, vel, sd) + rng.uniform(-1.0, 1.0)
     stamp, angle, torque = damage_recording(rng, t, rad, torque, rate, torque_quantum_nm=(0.002, 0.012),
                                             angle_quantum_deg=(0.005, 0.03), clock_fraction=2e-4, drop_fraction=0.01,
                                             run_s=0.1, nan_fraction=0.003)
     return FamilyBTrial(kind, stamp, angle, torque, fixed, subject, {e: truth[e] for e in effects}, details)
 
 
-__all__ = ["EFFECTS", "MAGNITUDE_KEY", "NOISE_SD_NM", "FamilyBTrial", "clonus", "generate_aa", "held_late",
-           "eddy_current_brake", "knocked_connector", "locking_strap_give", "off_axis_weight", "paused_ramps", "power_end",
-           "strap_joined_spring", "tremulous_bends", "two_stage_stop", "worn_bearing_friction"]
+__all__ = ["EFFECTS", "MAGNITUDE_KEY", "NOISE_SD_NM", "FamilyBTrial", "battery_sag", "clonus", "drive_noise",
+           "eddy_current_brake", "generate_aa", "hand_bends", "held_late", "locking_strap_give", "off_axis_weight",
+           "paused_ramps", "strap_joined_spring", "two_stage_stop", "venous_pooling", "worn_bearing_friction", "yeoh_end"]
