@@ -88,10 +88,17 @@ END_EXP_RATES_PER_RAD: dict[str, tuple[tuple[float, ...], tuple[float, ...]]] = 
 #: (Riener & Edrich 1999, ankle dorsiflexion; knee extension 0.150 /° = 8.6 /rad); the range runs to 20 /rad
 #: (an e-folding width of 2.9°) with that margin. A stiffening steeper than any passive tissue shows is a stop
 SMOOTH_END_RATES_PER_RAD = np.geomspace(2.0, 20.0, 8)
-#: Savitzky–Golay windows (s) of the angular acceleration: the middle one is the search's; an inertia's
-#: magnitude is averaged over all three (evidence.magnitude_variants). Differentiating twice is a modelling
-#: choice: a wider window flattens the acceleration peaks at the turnarounds and reads the inertia larger
-ACCEL_WINDOWS_S = (0.075, 0.15, 0.3)
+#: Savitzky–Golay windows (s) of the angular acceleration behind an inertia: the search takes the likeliest on the
+#: trial of the second and longer ones (evidence.likeliest_law: LAW_VARIANTS), the magnitude is averaged over all
+#: (evidence.magnitude_variants); the limb's known inertia is taken at ACCEL_WINDOWS_S[1]. The search's window is never
+#: narrower than the 150 ms it always had: with 75 ms among its choices a short window's noisy acceleration took the
+#: place of bursts (two of the tests' spent-family bursts named an inertia of 0.14 kg·m² instead). Differentiating
+#: twice is a modelling choice a trial decides: a wider window flattens the acceleration peaks at sharp turnarounds and
+#: reads the inertia larger, a narrower one passes the angle's noise, amplified by the window's length to the power
+#: −2.5: a slow sweep at 100 Hz with a 0.005–0.03° angle quantum had an acceleration over 150 ms of ±0.05–0.1 rad/s²
+#: against its motion's 0.015 (the spent twenty-sixth family), so the inertia's column was noise and its coefficient
+#: shrank toward zero
+ACCEL_WINDOWS_S = (0.075, 0.15, 0.3, 0.6, 1.2)
 SPLINE_KNOTS = 8                          # interior knots of the flexible baseline's spline
 #: the decay speeds (rad/s) of a Stribeck friction's static excess: from a sharp break-away (0.5 °/s) to one
 #: spread over the sweep's speed (8 °/s)
@@ -735,6 +742,23 @@ SHAPE_VARIANTS: dict[str, dict[str, Callable[[], Cause]]] = {
 }
 
 
+def acceleration_rad_s2(prep: Prepared, window_s: float) -> np.ndarray:
+    """The angular acceleration (rad/s²) at ``prep``'s samples by a cubic Savitzky–Golay second derivative over
+    ``window_s`` (s) of the whole trial's angle."""
+    if window_s == ACCEL_WINDOWS_S[1] and prep.alpha.size == prep.t.size:
+        return prep.alpha
+    return np.interp(prep.t, prep.trial.time_s, prep.trial.savgol(prep.trial.angle_rad, window_s, 3, 2))
+
+
+def inertia_cause(window_s: float) -> Cause:
+    """An inertia error, its torque proportional to the angular acceleration over ``window_s`` (s)."""
+    return Cause("inertia", "torque proportional to angular acceleration beyond the known limb and arm inertia "
+                 "(a moving mass not accounted for)", ("knee", "ankle"),
+                 lambda p, nl: _cached(p, ("inertia", window_s), lambda: _plain(p, acceleration_rad_s2(p, window_s))),
+                 lambda c, nl: {"inertia_kgm2": float(c[0])}, "inertia_kgm2",
+                 transient=True, hysteretic=True)  # accelerations happen at speed changes only: held-out blocks cannot
+
+
 def _any_trial(make: Callable[[], Cause]) -> Callable[[Prepared], Cause | None]:
     """A law made the same for every trial, as :data:`LAW_VARIANTS` takes it (a function of the trial)."""
     return lambda prep: make()
@@ -748,6 +772,8 @@ LAW_VARIANTS: dict[str, dict[str, Callable[[Prepared], Cause | None]]] = {
                             for law in (*FRICTION_LAWS, "dahl")}},
     "viscous_damping": {law: _any_trial(functools.partial(damping_cause, law))
                         for law in ("viscous", "viscous with relaxation", "viscous with saturation")},
+    "inertia": {f"acceleration over {1000 * w:.0f} ms": _any_trial(functools.partial(inertia_cause, w))
+                for w in ACCEL_WINDOWS_S[1:]},
     "sensor_drift": {"linear": _any_trial(functools.partial(drift_cause, "linear")),
                      "smooth": _any_trial(functools.partial(drift_cause, "smooth")),
                      "wandering": wandering_drift_cause},
@@ -786,10 +812,7 @@ CAUSES: dict[str, Cause] = {c.name: c for c in [
           ("knee", "ankle"), lambda p, nl: _plain(p, p.gravity_shape),
           lambda c, nl: {"gravity_moment_error_Nm": float(c[0])}, "gravity_moment_error_Nm"),
     delay_cause("pure"),
-    Cause("inertia", "torque proportional to angular acceleration beyond the known limb and arm inertia "
-          "(a moving mass not accounted for)",
-          ("knee", "ankle"), lambda p, nl: _plain(p, p.alpha), lambda c, nl: {"inertia_kgm2": float(c[0])}, "inertia_kgm2",
-          transient=True, hysteretic=True),  # accelerations happen at speed changes only: held-out blocks cannot learn it
+    inertia_cause(ACCEL_WINDOWS_S[1]),
     drift_cause("linear"),
 ]}
 

@@ -110,11 +110,11 @@ from .result import Candidate, Diagnosis, magnitude
 from .transients import TransientScan, isolated_transient
 
 
-def _stop_offset(cause: Cause) -> int:
-    """Index of the hard stop's column among ``cause``'s extension columns (a pair lists its parts')."""
+def _part_offset(cause: Cause, name: str = "hard_stop") -> int:
+    """Index of the first column of the part ``name`` among ``cause``'s extension columns (a pair lists its parts')."""
     offset = 0
     for part in cause.parts or (cause,):
-        if part.name == "hard_stop":
+        if part.name == name:
             break
         offset += _ext_count(part)
     return offset
@@ -295,10 +295,17 @@ class _Search:
         if ok and added.name == "inertia":
             # a moving mass adds inertia; an error may take some of the known limb's and arm's away, never more
             # than all of it: a total below zero is no mass (a lagging torque channel fits as one: the demo's
-            # ankle sweep read -0.93 kg·m² beside 0.07 known)
-            ok = self.prep.trial.known_inertia_kgm2() + mf.params.get("inertia_kgm2", 0.0) > 0.0
+            # ankle sweep read -0.93 kg·m² beside 0.07 known). And material, as a stop: its torque's peak at least
+            # MIN_PEAK_TO_NOISE × the residual RMS, on either baseline (a passive curve outside the parametric one's
+            # family takes part of an inertia there: a sixth-family knee's 3.0 kg·m² read 2.1, its peak 1.65 × the
+            # noise). With the acceleration's window the trial's likeliest (causes.ACCEL_WINDOWS_S) the criterion found
+            # the limb tables' own error in clean trials, 0.02–0.14 kg·m² (spent families' segments drawn apart from
+            # Winter's fractions; 5 of 192 clean development trials)
+            ok = (self.prep.trial.known_inertia_kgm2() + mf.params.get("inertia_kgm2", 0.0) > 0.0
+                  and max(self.peak_to_noise(model, "inertia"),
+                          self.peak_to_noise(model, "inertia", self.flex, self.flexible(model))) >= MIN_PEAK_TO_NOISE)
         if ok and added.name == "hard_stop":
-            ok = self.stop_peak_to_noise(model) >= MIN_PEAK_TO_NOISE
+            ok = self.peak_to_noise(model) >= MIN_PEAK_TO_NOISE
             # a joint's stop against its steeper passive end, an orthosis's against its spring off the quadratic; not
             # the replica leg's, a rig of linear springs whose stops are what it is built to show: the rival there
             # took a stop 200× better in fit at a held-out gain of 11.8 (the first generator, seed 101: a few holds'
@@ -367,7 +374,7 @@ class _Search:
         if ok.sum() < 10:
             return False
         gain = n_flex * math.log(float(np.mean(ref_resid[ok] ** 2)) / float(np.mean(resid[ok] ** 2)))
-        return gain > STRONG_HELDOUT_GAIN and self.stop_peak_to_noise(model, self.flex, flex_fit) >= MIN_PEAK_TO_NOISE
+        return gain > STRONG_HELDOUT_GAIN and self.peak_to_noise(model, "hard_stop", self.flex, flex_fit) >= MIN_PEAK_TO_NOISE
 
     def stop_taken_up(self, model: tuple[str, ...], signals: Prepared, fit: CauseFit, n_eff: float) -> bool:
         """Whether the stop in ``model``, fitted as ``fit`` on ``signals``' baseline, is fitted clearly better
@@ -487,13 +494,14 @@ class _Search:
         ok = np.isfinite(resid) & np.isfinite(flex_resid)
         return bool(ok.sum() >= 10 and float(np.mean(resid[ok] ** 2)) < float(np.mean(flex_resid[ok] ** 2)))
 
-    def stop_peak_to_noise(self, model: tuple[str, ...], signals: Prepared | None = None,
-                           fit: CauseFit | None = None) -> float:
-        """The hard stop's largest torque in ``model`` (at the end of the range) over the model's residual RMS: its
-        parametric fit, or ``fit`` on ``signals`` (the flexible baseline's, :meth:`stop_is_a_kink`)."""
+    def peak_to_noise(self, model: tuple[str, ...], part: str = "hard_stop", signals: Prepared | None = None,
+                      fit: CauseFit | None = None) -> float:
+        """The largest torque of the one-column cause ``part`` (a hard stop: at the end of the range) in ``model`` over
+        the model's residual RMS: its parametric fit, or ``fit`` on ``signals`` (the flexible baseline's,
+        :meth:`stop_is_a_kink`)."""
         cause, f = self.fit(model)
         f = f if fit is None else fit
-        offset = _stop_offset(cause)
+        offset = _part_offset(cause, part)
         _, ext, valid = cause.columns(self.prep if signals is None else signals, f.nonlinear)
         effect = ext[valid][:, offset] * float(f.coef[f.n_base + offset])
         noise = math.sqrt(f.rss / max(f.n, 1))
@@ -502,7 +510,7 @@ class _Search:
     def stop_t(self, model: tuple[str, ...], n_eff: float) -> float:
         """t statistic of the hard stop's stiffness in ``model`` (its standard error inflated by n / n_eff)."""
         cause, f = self.fit(model)
-        offset = _stop_offset(cause)
+        offset = _part_offset(cause)
         base, ext, valid = cause.columns(self.prep, f.nonlinear)
         x = np.hstack([base, ext])[valid]
         scale = np.maximum(np.abs(x).max(axis=0), 1e-12)

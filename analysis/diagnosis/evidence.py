@@ -19,6 +19,7 @@ from .causes import (
     Prepared,
     _signs,
     compound,
+    inertia_cause,
 )
 from .fitting import CauseFit, fit_cause
 from .policy import LAW_RIVAL_MIN_DELTA_BIC
@@ -219,8 +220,7 @@ def magnitude_variants(prep: Prepared, cause_name: str, stop_angle_rad: float = 
     """
     choices: list[tuple[str, Prepared, dict[str, Cause]]] = [("", prep, {})]
     if cause_name == "inertia":
-        choices = [(f"acceleration over {1000 * w:.0f} ms", Prepared.of(prep.trial, None, accel_window_s=w), {})
-                   for w in ACCEL_WINDOWS_S]
+        choices = [(f"acceleration over {1000 * w:.0f} ms", prep, {cause_name: inertia_cause(w)}) for w in ACCEL_WINDOWS_S]
     elif cause_name in LAW_VARIANTS:  # laws of different parameter counts: the BIC weights pay for the extra ones
         made = {law: make(prep) for law, make in LAW_VARIANTS[cause_name].items()}
         choices = [(law, prep, {cause_name: cause}) for law, cause in made.items() if cause is not None]
