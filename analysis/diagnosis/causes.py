@@ -756,7 +756,8 @@ def inertia_cause(window_s: float) -> Cause:
                  "(a moving mass not accounted for)", ("knee", "ankle"),
                  lambda p, nl: _cached(p, ("inertia", window_s), lambda: _plain(p, acceleration_rad_s2(p, window_s))),
                  lambda c, nl: {"inertia_kgm2": float(c[0])}, "inertia_kgm2",
-                 transient=True, hysteretic=True)  # accelerations happen at speed changes only: held-out blocks cannot
+                 # accelerations happen at speed changes only: held-out blocks cannot learn it
+                 transient=True, hysteretic=True)
 
 
 def _any_trial(make: Callable[[], Cause]) -> Callable[[Prepared], Cause | None]:
