@@ -92,12 +92,12 @@ SMOOTH_END_RATES_PER_RAD = np.geomspace(2.0, 20.0, 8)
 #: trial of the second and longer ones (evidence.likeliest_law: LAW_VARIANTS), the magnitude is averaged over all
 #: (evidence.magnitude_variants); the limb's known inertia is taken at ACCEL_WINDOWS_S[1]. The search's window is never
 #: narrower than the 150 ms it always had: with 75 ms among its choices a short window's noisy acceleration took the
-#: place of bursts (two of the tests' spent-family bursts named an inertia of 0.14 kg·m² instead). Differentiating
-#: twice is a modelling choice a trial decides: a wider window flattens the acceleration peaks at sharp turnarounds and
-#: reads the inertia larger, a narrower one passes the angle's noise, amplified by the window's length to the power
-#: −2.5: a slow sweep at 100 Hz with a 0.005–0.03° angle quantum had an acceleration over 150 ms of ±0.05–0.1 rad/s²
-#: against its motion's 0.015 (the spent twenty-sixth family), so the inertia's column was noise and its coefficient
-#: shrank toward zero
+#: place of bursts (two of the tests' spent-family bursts named an inertia instead, one of them 0.14 kg·m²).
+#: Differentiating twice is a modelling choice a trial decides: a wider window flattens the acceleration peaks at sharp
+#: turnarounds and reads the inertia larger, a narrower one passes the angle's noise, amplified by the window's length
+#: to the power −2.5: a slow sweep at 100 Hz with a 0.005–0.03° angle quantum had an acceleration over 150 ms of
+#: ±0.05–0.1 rad/s² against its motion's 0.015 (a knee of the spent twenty-sixth family, seed 200), so the inertia's
+#: column was noise and its coefficient shrank toward zero
 ACCEL_WINDOWS_S = (0.075, 0.15, 0.3, 0.6, 1.2)
 SPLINE_KNOTS = 8                          # interior knots of the flexible baseline's spline
 #: the decay speeds (rad/s) of a Stribeck friction's static excess: from a sharp break-away (0.5 °/s) to one
@@ -214,11 +214,10 @@ class Prepared:
                                    end_terms=self.end_terms + ((end, rate_per_rad),))
 
     @classmethod
-    def of(cls, trial: DiagnosisTrial, min_angle_deg: float | None = None,
-           accel_window_s: float = ACCEL_WINDOWS_S[1]) -> Prepared:
+    def of(cls, trial: DiagnosisTrial, min_angle_deg: float | None = None) -> Prepared:
         """Signals of ``trial``; ``min_angle_deg`` keeps only samples at or above that angle (velocity
-        is taken on the whole trial first, so the cut does not bend it); ``accel_window_s``: the
-        Savitzky–Golay window (s) of the angular acceleration."""
+        is taken on the whole trial first, so the cut does not bend it). The angular acceleration (the known inertia's,
+        and the search's default for an inertia) is over ACCEL_WINDOWS_S[1]."""
         grav = trial.limb_gravity_nm()
         keep = np.ones(trial.time_s.size, dtype=bool) if min_angle_deg is None else \
             trial.angle_rad >= np.deg2rad(min_angle_deg)
@@ -226,7 +225,7 @@ class Prepared:
             raise InputError(f"{trial.source or 'trial'}: {int(keep.sum())} samples at or above {min_angle_deg}°; "
                              "the diagnosis needs 50")
         th = trial.angle_rad[keep]
-        alpha = trial.savgol(trial.angle_rad, accel_window_s, 3, 2)
+        alpha = trial.savgol(trial.angle_rad, ACCEL_WINDOWS_S[1], 3, 2)
         known = grav + trial.known_inertia_kgm2() * alpha  # the limb's weight and the known moving inertia
         return cls(trial, trial.time_s[keep], th, trial.velocity_rad_s()[keep], (trial.torque_nm - known)[keep],
                    trial.savgol(trial.torque_nm, 0.15, 2)[keep], float(th.min()), float(th.max()), grav[keep],
@@ -745,7 +744,7 @@ SHAPE_VARIANTS: dict[str, dict[str, Callable[[], Cause]]] = {
 def acceleration_rad_s2(prep: Prepared, window_s: float) -> np.ndarray:
     """The angular acceleration (rad/s²) at ``prep``'s samples by a cubic Savitzky–Golay second derivative over
     ``window_s`` (s) of the whole trial's angle."""
-    if window_s == ACCEL_WINDOWS_S[1] and prep.alpha.size == prep.t.size:
+    if window_s == ACCEL_WINDOWS_S[1]:
         return prep.alpha
     return np.interp(prep.t, prep.trial.time_s, prep.trial.savgol(prep.trial.angle_rad, window_s, 3, 2))
 

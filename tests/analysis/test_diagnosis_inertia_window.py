@@ -9,9 +9,10 @@ benchmarks' drawn segment tables (not Winter's fractions, which the engine takes
 nuisance inertia error of about 0.3 kg·m² in every trial, below the noise); white noise of 0.12–0.2 N·m. The hidden
 inertia error is sized so its torque's peak is 3–5 × the noise (3–11 kg·m²: a slow sweep shows no smaller one).
 At 100 Hz the quantum makes the acceleration over the search's former 150 ms window mostly noise: there the engine
-named a burst and a friction in all eight hidden trials (e14732c); with the window the trial's likeliest it names the
-inertia alone in eight of eight within 10 % and nothing in the eight clean ones (development, seeds 0–7; the test
-runs four of each).
+(33b6da8) named a burst and a friction in seven of the eight hidden trials and an inertia beside a delay in the eighth,
+and in seven of the eight clean ones the limb tables' own error (−0.04 to −0.31 kg·m², below the noise); with the
+window the trial's likeliest and the materiality check it names the inertia alone in eight of eight within 10 % and
+nothing in the eight clean ones (development, seeds 0–7; the test runs four of each).
 """
 
 from __future__ import annotations
