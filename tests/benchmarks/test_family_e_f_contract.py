@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from benchmarks.family_aa_truth import generate_aa
+from benchmarks.family_ab_truth import generate_ab
 from benchmarks.family_b_truth import EFFECTS, MAGNITUDE_KEY
 from benchmarks.family_e_truth import generate_e
 from benchmarks.family_f_truth import generate_f
@@ -38,7 +39,7 @@ GENERATORS = {"e": generate_e, "f": generate_f, "g": generate_g, "h": generate_h
               "k": generate_k, "l": generate_l, "m": generate_m, "n": generate_n,
               "o": generate_o, "p": generate_p, "q": generate_q, "r": generate_r, "s": generate_s, "t": generate_t,
               "u": generate_u, "v": generate_v, "w": generate_w, "x": generate_x,
-              "y": generate_y, "z": generate_z, "aa": generate_aa}
+              "y": generate_y, "z": generate_z, "aa": generate_aa, "ab": generate_ab}
 
 
 @pytest.mark.parametrize("family", list(GENERATORS))
