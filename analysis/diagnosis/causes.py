@@ -33,6 +33,8 @@ from scipy.signal import lfilter
 
 from ..errors import InputError
 from .data import DiagnosisTrial
+from .policy import REVISIT_BIN_DEG, REVISIT_STILL_DEG_S
+from .transients import revisit_differenced
 
 FRICTION_SPEED_RAD_S = np.deg2rad(1.0)  # tanh width of a Coulomb term where one width is assumed
 #: the widths (rad/s) the diagnosis tries for the Coulomb term's tanh: a sharp sign change (dry
@@ -473,12 +475,21 @@ def _burst_grid(prep: Prepared) -> np.ndarray:
         base = prep.baseline()
         resid = prep.target - base @ normal_lstsq(base, prep.target)
     dt = float(np.median(np.diff(prep.t)))
+    # and where it matches what is left once every pass's recurring part is taken out (transients.revisit_differenced):
+    # a passive curve's or another cause's misfit at every pass can outscore a burst of a few times the noise in the
+    # residual itself, and draw every start of the grid to it
+    differenced = np.nan_to_num(revisit_differenced(prep.theta, prep.omega, resid, math.radians(REVISIT_BIN_DEG),
+                                                    math.radians(REVISIT_STILL_DEG_S)))
     pairs = []
     for dur in BURST_GRID_DURATIONS_S:
         kernel = np.sin(np.pi * np.linspace(0, 1, max(3, int(dur / dt))))
         score = np.abs(np.correlate(resid, kernel, mode="valid"))
         for i in np.argsort(score)[::-1][:200:25]:
             pairs.append((float(prep.t[i]), dur))  # the sample's own time: rows may be missing
+        if differenced.any():
+            score = np.abs(np.correlate(differenced, kernel, mode="valid"))
+            for i in np.argsort(score)[::-1][:75:25]:
+                pairs.append((float(prep.t[i]), dur))
     return np.array(pairs)
 
 

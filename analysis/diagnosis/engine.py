@@ -103,11 +103,14 @@ from .policy import (
     MIN_PEAK_TO_NOISE,
     MIN_RANGE_FRACTION,
     MIN_RATE_HZ,
+    REVISIT_BIN_DEG,
+    REVISIT_STILL_DEG_S,
     STRONG_HELDOUT_GAIN,
     STRONG_MIN_HELDOUT_IMPROVEMENT,
 )
 from .result import Candidate, Diagnosis, magnitude
-from .transients import TransientScan, isolated_transient
+from .transients import TransientScan, isolated_transient, revisit_differenced
+from .transients import scan as scan_residual
 
 
 def _part_offset(cause: Cause, name: str = "hard_stop") -> int:
@@ -275,6 +278,9 @@ class _Search:
             if peak >= MIN_PEAK_TO_NOISE:
                 scan = self.burst_scan(flex_model, ref)
                 of_time = of_time or scan.isolated
+        if added.name == "activation_burst" and ref != ("none",) and not of_time:
+            scan = self.burst_beside(model, ref, mf)
+            of_time = scan is not None and scan.isolated
         # a second way in, by strong out-of-sample evidence: held-out blocks predicted far better
         # (gain > STRONG_HELDOUT_GAIN) while the in-sample criterion does not speak against it. A
         # local effect (a stop over the last degrees) barely moves the whole-trial BIC, whose
@@ -332,6 +338,37 @@ class _Search:
         return isolated_transient(self.flex.t, residual, flex_model.params["burst_start_s"],
                                   flex_model.params["burst_duration_s"], ISOLATED_BURST_ALPHA,
                                   len(BURST_GRID_DURATIONS_S))
+
+    def burst_beside(self, model: tuple[str, ...], ref: tuple[str, ...], fit: CauseFit) -> TransientScan | None:
+        """The burst in ``model`` (``ref``, another cause, plus a burst; ``fit`` its parametric fit) judged as one
+        isolated event in what ``ref`` leaves on the flexible baseline once every pass's recurring part is taken out
+        (:func:`transients.revisit_differenced`): the likeliest event over the burst grid's durations, which must be
+        where the fit put its burst (their centres within the longer of the two durations) and reach
+        :data:`MIN_PEAK_TO_NOISE` × the residual RMS of ``model`` on the flexible baseline; None where it is not."""
+        on_flexible = self.flexible(model)
+        noise = math.sqrt(on_flexible.rss / max(on_flexible.n, 1))
+        if noise <= 0.0 or abs(on_flexible.params["burst_amplitude_Nm"]) < MIN_PEAK_TO_NOISE * noise:
+            return None
+        residual = self.flex.torque - self.flexible(ref).prediction
+        differenced = revisit_differenced(self.flex.theta, self.flex.omega, residual, math.radians(REVISIT_BIN_DEG),
+                                          math.radians(REVISIT_STILL_DEG_S))
+        best: tuple[float, TransientScan, float, float] | None = None
+        for duration in BURST_GRID_DURATIONS_S:
+            scanned = scan_residual(self.flex.t, differenced, duration)
+            if scanned is None:
+                continue
+            times, z, m = scanned
+            start = float(times[min(int(np.argmax(z)) + m, times.size - 1)])
+            found = isolated_transient(self.flex.t, differenced, start, duration, ISOLATED_BURST_ALPHA,
+                                       len(BURST_GRID_DURATIONS_S))
+            ratio = found.z_event / found.z_critical
+            if best is None or ratio > best[0]:
+                best = (ratio, found, start + 0.5 * duration, duration)
+        if best is None:
+            return None
+        fitted_centre = fit.params["burst_start_s"] + 0.5 * fit.params["burst_duration_s"]
+        _, found, centre, duration = best
+        return found if abs(fitted_centre - centre) <= max(fit.params["burst_duration_s"], duration) else None
 
     def stop_is_a_kink(self, model: tuple[str, ...], ref: tuple[str, ...]) -> bool:
         """Whether the joint's stop in ``model`` (``ref`` plus the stop) is a kink in the torque–angle curve that a free

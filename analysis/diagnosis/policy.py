@@ -71,6 +71,10 @@ MIN_PEAK_TO_NOISE = 2.0
 #: ΔBIC +6 to +11. Noise that slow is not what a short burst has to stand out of: the scan measures the noise at the
 #: burst's own time scale (each window's mean and slope taken out) and at its own place in the trial
 ISOLATED_BURST_ALPHA = 0.01
+#: a burst beside another cause (engine._Search.burst_beside): the residual's state bins (angle, deg) and the speed
+#: (deg/s) below which a sample rests, over which transients.revisit_differenced takes the residual's recurring part out
+REVISIT_BIN_DEG = 0.5
+REVISIT_STILL_DEG_S = 0.5
 #: Measured and left out (twenty-fourth stop): a stop required to hold both ways where the trial passes it both ways
 #: (fitted without the samples past it moving outward it had to predict them better than no stop, and likewise those
 #: moving back; an elastic torque is a function of angle, a friction's, damping's or delay's law mismatch at the range's
@@ -148,4 +152,4 @@ LAW_RIVAL_MIN_DELTA_BIC = 6.0
 __all__ = ["STRONG_HELDOUT_GAIN", "MAX_DELTA_BIC_WITH_STRONG_HELDOUT", "STRONG_MIN_HELDOUT_IMPROVEMENT",
            "LOCAL_STOP_T", "AFO_STOP_T", "AFO_STOP_MIN_HELDOUT_GAIN", "AFO_STOP_NOT_BESIDE",
            "AFO_STOP_MAX_DELTA_BIC", "MIN_PEAK_TO_NOISE", "ISOLATED_BURST_ALPHA", "MAX_RATE_HZ", "MAX_SAMPLES", "MIN_RATE_HZ",
-           "MIN_RANGE_FRACTION", "MIN_PREDICTED_SHARE", "LAW_RIVAL_MIN_DELTA_BIC"]
+           "MIN_RANGE_FRACTION", "MIN_PREDICTED_SHARE", "LAW_RIVAL_MIN_DELTA_BIC", "REVISIT_BIN_DEG", "REVISIT_STILL_DEG_S"]

@@ -60,6 +60,41 @@ def scan(t: np.ndarray, residual: np.ndarray, duration_s: float) -> tuple[np.nda
     return t, centred / spread, m
 
 
+def revisit_differenced(theta_rad: np.ndarray, omega_rad_s: np.ndarray, residual: np.ndarray, bin_rad: float,
+                        still_rad_s: float, min_passes: int = 3) -> np.ndarray:
+    """``residual`` (N·m) less what the same state shows on every pass through it: the median, over the passes moving
+    the same way (or resting) through the same angle bin of ``bin_rad``, of each pass's mean residual there; NaN where
+    fewer than ``min_passes`` passes reach the bin. A pass is a run of samples moving one way (|ω| ≥ ``still_rad_s``)
+    or resting.
+
+    What a model gets wrong as a function of the state (a law's misfit at every reversal, a passive curve's at every
+    pass, a stop's) recurs at each pass and cancels; an event of time (a burst) sits in one pass, which the median of
+    three or more passes leaves out of the control (with two it would be their mean: half the event, and its echo in
+    the other pass)."""
+    theta = np.asarray(theta_rad, dtype=float)
+    direction = np.where(np.abs(omega_rad_s) < still_rad_s, 0, np.sign(omega_rad_s)).astype(int)
+    passes = np.concatenate([[0], np.cumsum(direction[1:] != direction[:-1])])
+    bins = np.floor((theta - float(np.min(theta))) / bin_rad).astype(int)
+    n_pass, n_bin = int(passes[-1]) + 1, int(bins.max()) + 1
+    flat = passes * n_bin + bins
+    ok = np.isfinite(residual)
+    sums = np.bincount(flat[ok], weights=np.asarray(residual, dtype=float)[ok], minlength=n_pass * n_bin)
+    counts = np.bincount(flat[ok], minlength=n_pass * n_bin)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        table = (sums / counts).reshape(n_pass, n_bin)
+    pass_direction = direction[np.searchsorted(passes, np.arange(n_pass))]
+    control = np.full((n_pass, n_bin), np.nan)
+    for d in (-1, 0, 1):
+        rows = np.flatnonzero(pass_direction == d)
+        if rows.size < min_passes:
+            continue
+        sub = table[rows]
+        enough = np.isfinite(sub).sum(axis=0) >= min_passes
+        if enough.any():
+            control[np.ix_(rows, np.flatnonzero(enough))] = np.nanmedian(sub[:, enough], axis=0)
+    return np.asarray(residual - control[passes, bins], dtype=float)
+
+
 def _level(times: np.ndarray, duration_s: float, alpha: float, searched_durations: int) -> float:
     """The scan's family-wise level: Gaussian, two-sided, at ``alpha`` over the trial's independent windows (its
     length over ``duration_s``) times the ``searched_durations``."""
@@ -86,4 +121,4 @@ def isolated_transient(t: np.ndarray, residual: np.ndarray, start_s: float, dura
                          _level(times, duration_s, alpha, searched_durations))
 
 
-__all__ = ["TransientScan", "isolated_transient", "scan"]
+__all__ = ["TransientScan", "isolated_transient", "revisit_differenced", "scan"]
