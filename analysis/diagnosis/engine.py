@@ -278,7 +278,10 @@ class _Search:
             if peak >= MIN_PEAK_TO_NOISE:
                 scan = self.burst_scan(flex_model, ref)
                 of_time = of_time or scan.isolated
-        if added.name == "activation_burst" and ref != ("none",) and not of_time:
+        # (not beside a drift: the differencing tells a function of time from a function of the state, not from the
+        # drift law's own misfit, which is a function of time too: an independent family's knocked cable, its step
+        # sharper than the drift's spline, was named a drift and a burst)
+        if added.name == "activation_burst" and ref != ("none",) and "sensor_drift" not in ref and not of_time:
             scan = self.burst_beside(model, ref, mf)
             of_time = scan is not None and scan.isolated
         # a second way in, by strong out-of-sample evidence: held-out blocks predicted far better
