@@ -120,6 +120,8 @@ def test_a_delay_off_its_grid_is_refined_before_a_burst_is_searched_beside_it() 
                      start=delay.nonlinear + burst.nonlinear)
     onset, duration = g.details["burst_onset_s"], g.details["burst_duration_s"]
     assert both.params["delay_s"] == pytest.approx(g.effects["time_delay"], rel=0.05)
-    centre = both.params["burst_start_s"] + 0.5 * both.params["burst_duration_s"]
-    assert abs(centre - (onset + 0.5 * duration)) <= duration  # (before: 10.4 s, the true one 18.8 s)
+    # where the burst sits in the recording, in units of its true length (the engine before: 10.8 lengths off)
+    fitted_centre = both.params["burst_start_s"] + 0.5 * both.params["burst_duration_s"]
+    offset_in_lengths = abs(fitted_centre - (onset + 0.5 * duration)) / duration
+    assert offset_in_lengths <= 1.0
     assert abs(both.params["burst_amplitude_Nm"]) == pytest.approx(g.effects["activation_burst"], rel=0.15)
