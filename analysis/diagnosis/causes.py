@@ -852,6 +852,10 @@ AFO_STOP_OR_SPRING_HINT = ("bends that go further past the stop's angle (a kink 
                            "spring's curve does not turn there), or the spring's own curve from its geometry "
                            "(instrument analyze afo) to compare with")
 
+#: what separates a burst from the passive curve at angles a trial reaches only once
+BURST_OR_UNREVISITED_HINT = ("a trial that passes every angle at least twice each way (a burst is not repeated at the "
+                             "same angle, a passive curve is)")
+
 #: what a trial needs before a cause that the baseline absorbs can be seen
 UNTESTABLE_HINT: dict[str, str] = {
     "series_compliance": "the spring's own torque–angle curve (for the AFO, the theory from the hook markers) or an "

@@ -25,7 +25,9 @@ Selection, in order:
    an orthosis's spring off the quadratic: ``_Search.stop_beats_smooth_rival``). Where those tests refuse a joint's
    stop (knee, ankle) that is a kink a free curve in angle cannot follow, judged on the flexible baseline
    (``_Search.stop_is_a_kink``), the report says the end stiffens there (a stop, or a passive end engaging within a
-   few degrees) and names neither. A
+   few degrees) and names neither. A burst, by whichever test, only where the trial also moves through its angles
+   at other times (:data:`MIN_REVISITED_BURST_SHARE`): at angles it reaches only then (the outermost strokes of a
+   growing protocol) a burst and the passive curve there are the same function of time, said, not named. A
    cause that is not a function of angle alone must also lower the criterion against the *flexible* baseline (a
    spline in angle), and so must a series compliance, which in a slow trial only reshapes the curve in angle;
 5. a cause whose effect the baseline can mimic (R² > ``max_absorbed_r2`` of its effect direction
@@ -60,6 +62,7 @@ from .causes import (
     AFO_STOP_OR_SPRING_HINT,
     ARGUMENT_CAUSES,
     BURST_GRID_DURATIONS_S,
+    BURST_OR_UNREVISITED_HINT,
     CAUSES,
     LAW_VARIANTS,
     SEPARATE_BY,
@@ -103,13 +106,14 @@ from .policy import (
     MIN_PEAK_TO_NOISE,
     MIN_RANGE_FRACTION,
     MIN_RATE_HZ,
+    MIN_REVISITED_BURST_SHARE,
     REVISIT_BIN_DEG,
     REVISIT_STILL_DEG_S,
     STRONG_HELDOUT_GAIN,
     STRONG_MIN_HELDOUT_IMPROVEMENT,
 )
 from .result import Candidate, Diagnosis, magnitude
-from .transients import TransientScan, isolated_transient, revisit_differenced
+from .transients import TransientScan, isolated_transient, revisit_differenced, revisited_share
 from .transients import scan as scan_residual
 
 
@@ -157,6 +161,8 @@ class _Search:
         self._folds: dict[float | None, tuple[str, list[np.ndarray]]] = {}
         #: models whose stop passed every test against its reference but not against a smooth stiffening
         self.stops_not_told_from_smooth: set[str] = set()
+        #: the starts (s) of bursts refused because the trial reaches their angles only then (MIN_REVISITED_BURST_SHARE)
+        self.bursts_at_unrevisited_angles: list[float] = []
 
     def fit(self, names: tuple[str, ...]) -> tuple[Cause, CauseFit]:
         key = "+".join(names)
@@ -301,6 +307,14 @@ class _Search:
                 and self.stop_t(model, n_eff) > AFO_STOP_T
         ok = (((d < -need and (added.transient or gain > self.min_heldout_gain)) or strong or local)
               and (not added.hysteretic or d_flex < -need)) or of_time
+        if ok and added.name == "activation_burst":
+            placed = self.flexible(model, searched=True) if ref == ("none",) else mf
+            share = revisited_share(self.prep.t, self.prep.theta, self.prep.omega, placed.params["burst_start_s"],
+                                    placed.params["burst_duration_s"], math.radians(REVISIT_BIN_DEG),
+                                    math.radians(REVISIT_STILL_DEG_S))
+            if share < MIN_REVISITED_BURST_SHARE:
+                ok = False
+                self.bursts_at_unrevisited_angles.append(placed.params["burst_start_s"])
         if ok and added.name == "inertia":
             # a moving mass adds inertia; an error may take some of the known limb's and arm's away, never more
             # than all of it: a total below zero is no mass (a lagging torque channel fits as one: the demo's
@@ -739,6 +753,10 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
                          "this trial cannot tell them apart (the stop does not predict held-out blocks clearly better), "
                          f"so neither is named; to tell them apart: {hint}")
         separate.append(hint)
+    if "activation_burst" not in chosen and search.bursts_at_unrevisited_angles:
+        notes.append(f"an event about {min(search.bursts_at_unrevisited_angles):.0f} s into the trial lies at angles the "
+                     "trial reaches only then: a burst, or the passive curve at those angles, which this trial cannot "
+                     f"tell apart, so neither is named; to tell them apart: {BURST_OR_UNREVISITED_HINT}")
     final_cause, final = search.fit(chosen) if chosen else (CAUSES["none"], base)
     n_eff = effective_n(prep.torque - final.prediction)
     if n_eff <= 20:

@@ -95,6 +95,25 @@ def revisit_differenced(theta_rad: np.ndarray, omega_rad_s: np.ndarray, residual
     return np.asarray(residual - control[passes, bins], dtype=float)
 
 
+def revisited_share(t: np.ndarray, theta_rad: np.ndarray, omega_rad_s: np.ndarray, start_s: float, duration_s: float,
+                    bin_rad: float, still_rad_s: float, min_passes: int = 2) -> float:
+    """The share of a half-sine event of ``duration_s`` starting at ``start_s`` (weighted by its shape, over the samples
+    moving at ``still_rad_s`` or faster) that lies in states the trial also reaches on other passes: angle bins of
+    ``bin_rad`` that at least ``min_passes`` passes moving the same way reach (:func:`revisit_differenced`'s passes and
+    bins). An event at angles the trial moves through only then is a function of time or of those angles alike: no
+    model in angle can be checked against it elsewhere. Resting samples are not weighed: a joint turning back short of
+    its end rests at an angle once, which every other pass crosses moving; an event within a rest is judged as before
+    (1.0 when nothing moves in it)."""
+    tt = np.asarray(t, dtype=float)
+    theta = np.asarray(theta_rad, dtype=float)
+    reached = np.isfinite(revisit_differenced(theta, omega_rad_s, np.zeros(theta.size), bin_rad, still_rad_s,
+                                              min_passes))
+    inside = (tt > start_s) & (tt < start_s + duration_s) & (np.abs(np.asarray(omega_rad_s, dtype=float)) >= still_rad_s)
+    weight = np.sin(np.pi * (tt[inside] - start_s) / duration_s)
+    total = float(weight.sum())
+    return float(np.dot(weight, reached[inside])) / total if total > 0.0 else 1.0
+
+
 def _level(times: np.ndarray, duration_s: float, alpha: float, searched_durations: int) -> float:
     """The scan's family-wise level: Gaussian, two-sided, at ``alpha`` over the trial's independent windows (its
     length over ``duration_s``) times the ``searched_durations``."""
@@ -121,4 +140,4 @@ def isolated_transient(t: np.ndarray, residual: np.ndarray, start_s: float, dura
                          _level(times, duration_s, alpha, searched_durations))
 
 
-__all__ = ["TransientScan", "isolated_transient", "revisit_differenced", "scan"]
+__all__ = ["TransientScan", "isolated_transient", "revisit_differenced", "revisited_share", "scan"]
