@@ -73,7 +73,8 @@ def _named(d: object) -> set[str]:
     return ({d.cause} - {"none"}) | {a["cause"] for a in d.also}  # type: ignore[attr-defined]  # a Diagnosis
 
 
-SEEDS = range(8)
+#: clean trials' seeds (eight until the thirty-eighth stop, none named a burst; four since, for the suite's time)
+SEEDS = range(4)
 #: (family, kind, seed) of the spent families' single bursts the criterion missed and the isolated-event test names
 MISSED_BEFORE = (("d", "ankle", 203), ("e", "knee", 202), ("f", "knee", 202), ("k", "ankle", 202), ("n", "knee", 200),
                  ("n", "knee", 201), ("q", "ankle", 200), ("r", "knee", 201), ("y", "knee", 200), ("y", "ankle", 202),
@@ -105,7 +106,7 @@ def test_bursts_the_criterion_missed_in_slow_noise_are_named_alone_and_sized() -
 
 
 def test_clean_trials_with_a_slow_wander_name_no_burst() -> None:
-    """The wander is a real slow offset (a drift may be named); a burst is not, on any of the eight."""
+    """The wander is a real slow offset (a drift may be named); a burst is not, on any of them."""
     named = [_named(diagnose(_ankle_trial(1000 + seed))) for seed in SEEDS]
     assert all("activation_burst" not in n for n in named), named
 
