@@ -31,6 +31,7 @@ from . import (
     family_aa_truth,
     family_ab_truth,
     family_ac_truth,
+    family_ad_truth,
     family_b_truth,
     family_c_truth,
     family_d_truth,
@@ -96,7 +97,8 @@ FAMILIES = {"b": (family_b_truth.generate_b, family_b_truth.MAGNITUDE_KEY),
             "z": (family_z_truth.generate_z, family_z_truth.MAGNITUDE_KEY),
             "aa": (family_aa_truth.generate_aa, family_aa_truth.MAGNITUDE_KEY),
             "ab": (family_ab_truth.generate_ab, family_ab_truth.MAGNITUDE_KEY),
-            "ac": (family_ac_truth.generate_ac, family_ac_truth.MAGNITUDE_KEY)}
+            "ac": (family_ac_truth.generate_ac, family_ac_truth.MAGNITUDE_KEY),
+            "ad": (family_ad_truth.generate_ad, family_ad_truth.MAGNITUDE_KEY)}
 
 KINDS = ("afo", "knee", "ankle")
 #: pairs one trial cannot separate (the engine reports them ambiguous): not scored, as in benchmarks/diagnosis

@@ -1,4 +1,4 @@
-"""The fifth to twenty-ninth generator families' shared contract: each cause hidden with its truth in a recording with a
+"""The fifth to thirtieth generator families' shared contract: each cause hidden with its truth in a recording with a
 lab's damage, and a seed making the same trial. Each family's own physics is tested in its own module."""
 
 from __future__ import annotations
@@ -12,6 +12,7 @@ import pytest
 from benchmarks.family_aa_truth import generate_aa
 from benchmarks.family_ab_truth import generate_ab
 from benchmarks.family_ac_truth import generate_ac
+from benchmarks.family_ad_truth import generate_ad
 from benchmarks.family_b_truth import EFFECTS, MAGNITUDE_KEY
 from benchmarks.family_e_truth import generate_e
 from benchmarks.family_f_truth import generate_f
@@ -41,7 +42,7 @@ GENERATORS = {"e": generate_e, "f": generate_f, "g": generate_g, "h": generate_h
               "o": generate_o, "p": generate_p, "q": generate_q, "r": generate_r, "s": generate_s, "t": generate_t,
               "u": generate_u, "v": generate_v, "w": generate_w, "x": generate_x,
               "y": generate_y, "z": generate_z, "aa": generate_aa, "ab": generate_ab,
-              "ac": generate_ac}
+              "ac": generate_ac, "ad": generate_ad}
 
 
 @pytest.mark.parametrize("family", list(GENERATORS))
