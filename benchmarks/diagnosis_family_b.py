@@ -245,8 +245,10 @@ def run(quick: bool = False, family: str = "b") -> dict[str, Any]:
     for label, key in (("single effects", "accuracy"), ("both causes of a pair", "pair_accuracy"),
                        ("false alarms (clean)", "false_alarm_rate")):
         v = out[key]
-        print(f"{label:<26}{(v if v is not None else float('nan')):>8.3f}{out['sindy_' + key] or float('nan'):>8.3f}"
-              f"{out['sindy_1se_' + key] or float('nan'):>10.3f}")
+        peer, peer_1se = out["sindy_" + key], out["sindy_1se_" + key]  # 0.0 is a figure; only None is missing
+        print(f"{label:<26}{(v if v is not None else float('nan')):>8.3f}"
+              f"{(peer if peer is not None else float('nan')):>8.3f}"
+              f"{(peer_1se if peer_1se is not None else float('nan')):>10.3f}")
     print(f"\nstops left unnamed with 'a stop or a steeper passive curve' said {out['stop_or_steeper_said_on_stops']:.3f}"
           f"; said on clean trials {out['stop_or_steeper_said_on_clean']:.3f}")
     print(f"\nspurious second cause beside a single effect {out['spurious_second_rate']}; magnitudes within 15 % "
