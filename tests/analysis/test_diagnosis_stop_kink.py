@@ -52,16 +52,17 @@ def _stops(d: Diagnosis) -> bool:
 def test_stops_beside_a_passive_end_outside_the_baseline_are_said_at_their_angles_and_not_named() -> None:
     """At 6–9 × the noise and 8–14° from the range's end: none named, and the end said to stiffen from within 3° of the
     stop in most (measured: 7 of 8 within 1°, the eighth said at the passive end's onset, 21°; when the kink was named,
-    4 of 8 were named at their angles)."""
+    4 of 8 were named at their angles). Four seeds since the thirty-eighth stop (the suite's time): measured then 4 of 4
+    said within 3°, none named (seeds 0–7: 7 of 8, none)."""
     said = 0
-    for seed in range(8):
+    for seed in range(4):
         trial, at = _knee_sweeps(seed, stop=True)
         d = diagnose(trial)
         assert not _stops(d), (seed, d.text())
         angles = [float(m.group(1)) for n in d.notes
                   for m in [re.search(r"stiffens beyond the baseline's passive curve from about (-?\d+)°", n)] if m]
         said += any(abs(a - at) < 3.0 for a in angles)
-    assert said >= 6, said
+    assert said >= 3, said
 
 
 def test_the_same_passive_end_alone_and_a_toe_region_name_no_stop() -> None:
