@@ -22,6 +22,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from analysis.diagnosis import DiagnosisTrial, diagnose
 from analysis.diagnosis.result import Diagnosis
@@ -91,6 +93,21 @@ def test_an_event_at_angles_reached_on_every_cycle_is_revisited_and_one_at_the_l
     assert revisited_share(t, theta, omega, 96.5, 2.0, bin_rad, still) == 0.0
     # an event off the trial's end leaves nothing to weigh: not refused on that account
     assert revisited_share(t, theta, omega, 200.0, 1.0, bin_rad, still) == 1.0
+
+
+@settings(max_examples=40, deadline=None)
+@given(cycles=st.integers(2, 5), amplitude_deg=st.floats(5.0, 60.0), period_s=st.floats(8.0, 40.0),
+       start_share=st.floats(0.0, 1.0), duration_s=st.floats(0.1, 3.0))
+def test_an_event_in_a_sweep_that_repeats_itself_is_always_revisited(cycles: int, amplitude_deg: float, period_s: float,
+                                                                      start_share: float, duration_s: float) -> None:
+    """Every angle of a sweep repeated two or more times is passed at least twice each way: any event while it moves
+    is revisited, whatever its place and length (the share stays within 0–1)."""
+    t = np.arange(0.0, cycles * period_s, 0.01)
+    theta = np.radians(amplitude_deg) * np.sin(2.0 * math.pi * t / period_s)
+    omega = np.gradient(theta, t)
+    start = start_share * (t[-1] - duration_s)
+    share = revisited_share(t, theta, omega, start, duration_s, math.radians(0.5), math.radians(0.5))
+    assert share == pytest.approx(1.0)
 
 
 def test_a_spent_families_clean_ankle_misfit_at_the_last_strokes_angles_is_said_not_named_a_burst() -> None:
