@@ -255,11 +255,6 @@ def encoder_eccentricity(rad: np.ndarray, amplitude_deg: float, phase_rad: float
     return np.asarray(theta + np.radians(amplitude_deg) * np.sin(theta + phase_rad), dtype=float)
 
 
-def _position(deg: np.ndarray, bottom: float, top: float) -> np.ndarray:
-    """The angle's position in the range, −1 at ``bottom`` to 1 at ``top`` (deg)."""
-    return np.asarray((2.0 * np.asarray(deg, dtype=float) - bottom - top) / (top - bottom), dtype=float)
-
-
 def _elastic(kind: str, deg: np.ndarray, fixed: dict[str, float], c: dict[str, Any]) -> np.ndarray:
     """The passive resistance (N·m)."""
     if kind == "afo":

@@ -41,7 +41,8 @@ scaffolding of :mod:`benchmarks.family_scaffold`).
     trial (a linear chirp), random phase; named only;
   * series compliance: a cuff gripping the skin, elastic up to a slip torque (30–70 % of the largest) and sliding on
     beyond it with a hardening of 20–50 % of the elastic rate (a Prandtl element with kinematic hardening: reloading
-    after each reversal is elastic again); magnitude: the least-squares slope of the give on the torque;
+    after each reversal is elastic again), c 0.03–0.15 °/N·m but at most half of h over the torque's stiffest rate so
+    the joint's angle behind it is well defined; magnitude: the least-squares slope of the give on the torque;
   * inertia error: the dynamometer's inertia compensation applied to a low-passed acceleration (τ 20–80 ms) with a
     wrong inertia: the torque error J_e·LP(θ̈) + J_c·(θ̈ − LP(θ̈)) (J_c the compensated inertia, 1–3 × J_e);
     magnitude: the least-squares coefficient of its torque on θ̈.
@@ -55,6 +56,7 @@ Angles in degrees at the edges, SI in the returned arrays.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -237,6 +239,23 @@ def gripping_cuff(torque: np.ndarray, compliance: float, slip_nm: float, hardeni
     return out
 
 
+def behind_gripping_cuff(deg: np.ndarray, elastic: Callable[[np.ndarray], np.ndarray], compliance: float,
+                         slip_nm: float, hardening: float, tolerance_deg: float = 1e-7) -> np.ndarray:
+    """The joint's angle j (deg) behind the cuff of :func:`gripping_cuff`: j = ``deg`` − give(τ(j)) with τ = ``elastic``
+    (N·m) and the give following the torque's history, by fixed-point iteration to ``tolerance_deg``. The give's rate
+    is at most c/h per N·m (h = ``hardening``) and the slider is Lipschitz-1 in its input's history, so the iteration
+    contracts (in the largest error over the trial) by c/h × the torque's stiffest rate, which the caller keeps ≤ 0.5;
+    raises RuntimeError when it has not converged in 200 rounds."""
+    joint = np.asarray(deg, dtype=float).copy()
+    for _ in range(200):
+        following = deg - gripping_cuff(elastic(joint), compliance, slip_nm, hardening)
+        change = float(np.max(np.abs(following - joint)))
+        joint = following
+        if change < tolerance_deg:
+            return joint
+    raise RuntimeError(f"the cuff's fixed point did not converge (last change {change:.3g}°)")
+
+
 def compensation_error(acc: np.ndarray, t: np.ndarray, lag_s: float, wrong_kgm2: float, compensated_kgm2: float
                        ) -> np.ndarray:
     """The torque error (N·m) of an inertia compensation applied to the acceleration through a first-order lag of
@@ -303,11 +322,11 @@ def generate_ad(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Fami
         tau_max = max(float(np.max(np.abs(_elastic(kind, deg, fixed, coef)))), 1e-9)
         c_give, slip_nm = float(rng.uniform(0.03, 0.15)), float(rng.uniform(0.3, 0.7)) * tau_max
         hardening = float(rng.uniform(0.2, 0.5))
-        # the cuff's give depends on the torque's history: the joint's angle behind it by fixed-point iteration (the
-        # give at the joint's torque, the joint at the measured angle less the give; c·k ≤ 0.2 here, six rounds)
-        joint_deg = deg.copy()
-        for _ in range(6):
-            joint_deg = deg - gripping_cuff(_elastic(kind, joint_deg, fixed, coef), c_give, slip_nm, hardening)
+        # the cuff's give at most half the joint's stiffest rate (a contraction: see behind_gripping_cuff)
+        grid = np.linspace(float(deg.min()) - 5.0, float(deg.max()) + 5.0, 2001)
+        stiffest = float(np.max(np.abs(np.gradient(_elastic(kind, grid, fixed, coef), grid))))
+        c_give = min(c_give, 0.5 * hardening / max(stiffest, 1e-9))
+        joint_deg = behind_gripping_cuff(deg, lambda d: _elastic(kind, d, fixed, coef), c_give, slip_nm, hardening)
         tau_j = _elastic(kind, joint_deg, fixed, coef)
         truth["series_compliance"] = float(np.dot(tau_j, deg - joint_deg) / np.dot(tau_j, tau_j))
         details.update(compliance_deg_per_Nm=c_give, slip_Nm=slip_nm, hardening=hardening)
@@ -332,8 +351,7 @@ def generate_ad(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Fami
         torque = torque + damping
         truth["viscous_damping"] = float(np.dot(vel, damping) / np.dot(vel, vel))
     if "inertia" in effects:
-        wrong = 1.0
-        unit = compensation_error(acc, t, float(rng.uniform(0.02, 0.08)), wrong, float(rng.uniform(1.0, 3.0)) * wrong)
+        unit = compensation_error(acc, t, float(rng.uniform(0.02, 0.08)), 1.0, float(rng.uniform(1.0, 3.0)))
         error = size() * unit / max(float(np.max(np.abs(unit))), 1e-12)
         torque = torque + error
         truth["inertia"] = float(np.dot(acc, error) / np.dot(acc, acc))
@@ -372,7 +390,7 @@ def generate_ad(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Fami
     return FamilyBTrial(kind, stamp, angle, torque, fixed, subject, {e: truth[e] for e in effects}, details)
 
 
-__all__ = ["EFFECTS", "MAGNITUDE_KEY", "NOISE_SD_NM", "FamilyBTrial", "alpha_beta_tracker", "carbon_leaf",
+__all__ = ["EFFECTS", "MAGNITUDE_KEY", "NOISE_SD_NM", "FamilyBTrial", "alpha_beta_tracker", "behind_gripping_cuff", "carbon_leaf",
            "chirped_zero", "compensation_error", "creeping_stop", "generate_ad", "gripping_cuff", "gumbel_pulse",
            "hydrodynamic_friction", "lagged_share", "linkage_dashpot", "mooney_rivlin_tension", "two_step_bends",
            "wandering_triangle"]

@@ -76,9 +76,10 @@ ISOLATED_BURST_ALPHA = 0.01
 REVISIT_BIN_DEG = 0.5
 REVISIT_STILL_DEG_S = 0.5
 #: a burst is named only where the trial also reaches its angles at other times: at least this share of it (weighted by
-#: its shape) in angle bins that two or more passes moving the same way reach (transients.revisited_share). At angles
-#: the trial reaches only once (the outermost strokes of a protocol whose amplitude grows) a passive curve outside the
-#: baseline's family and a burst are the same function of time, and no free curve in angle can be checked elsewhere.
+#: its shape, over the samples that move) in angle bins that two or more passes moving the same way reach
+#: (transients.revisited_share). At angles the trial reaches only once (the outermost strokes of a protocol whose
+#: amplitude grows) a passive curve outside the baseline's family and a burst are the same function of time, and no
+#: free curve in angle can be checked elsewhere.
 #: Set before it was measured (most of the burst; one other pass): on the spent twenty-eighth family (growing strokes)
 #: the 18 trials naming a burst that was not there lost it, 10 of them then right; 1 of its 16 single bursts was lost
 #: (in the last strokes); on the spent second to twenty-seventh families' 436 trials that hide or name a burst, one

@@ -9,6 +9,7 @@ import pytest
 from benchmarks.family_ad_truth import (
     NOISE_SD_NM,
     alpha_beta_tracker,
+    behind_gripping_cuff,
     carbon_leaf,
     chirped_zero,
     compensation_error,
@@ -127,6 +128,21 @@ def test_the_cuff_grips_then_slides_and_reloads_elastically() -> None:
     assert rate[10] == pytest.approx(0.1) and rate[90] == pytest.approx(0.1 / 0.25)  # elastic, then sliding
     assert rate[105] == pytest.approx(0.1)  # after the reversal: elastic again
     assert give[-1] > 0.0  # the slip stays where the hardening spring and the grip balance
+
+
+def test_the_joint_behind_the_cuff_satisfies_the_cuffs_law_and_a_cuff_too_soft_for_a_fixed_point_is_refused() -> None:
+    deg = np.concatenate([np.linspace(0.0, 20.0, 201), np.linspace(20.0, 5.0, 151)[1:]])
+
+    def spring(d: np.ndarray) -> np.ndarray:
+        return 2.0 * d
+
+    joint = behind_gripping_cuff(deg, spring, 0.1, 8.0, 0.4)  # c/h · k = 0.5
+    np.testing.assert_allclose(joint, deg - gripping_cuff(spring(joint), 0.1, 8.0, 0.4), atol=1e-6)
+    # at 20°: j + j/5 + (2j − 8)/k_h = 20 with k_h = h/(1 − h)/c = 20/3 N·m/° once past the grip: j = 21.2/1.5 (elastic
+    # alone it would be 20/1.2)
+    assert np.all(joint <= deg) and joint[200] == pytest.approx(21.2 / 1.5, abs=1e-5)
+    with pytest.raises(RuntimeError, match="did not converge"):
+        behind_gripping_cuff(deg, spring, 0.6, 8.0, 0.2)  # c/h · k = 6
 
 
 def test_the_compensation_error_is_the_wrong_inertia_at_low_frequency() -> None:
