@@ -39,8 +39,10 @@ Nothing is imported from ``analysis``, nor any physics from the other generators
     error ∝ sin ψ beside the model's cos ψ; magnitude: its peak;
   * drift: a supply's ripple, a triangle wave of period 30–90 s, random phase; named only;
   * series compliance: a Burgers strap: an instant give c·τ, a delayed give (Kelvin–Voigt, 30–80 % of c, retardation
-    0.2–1 s) and a slow flow (a dashpot whose give over the trial's mean |τ| and length is 10–30 % of c·|τ|max);
-    magnitude: the least-squares slope of the give on the torque;
+    0.2–1 s) and a slow flow (a dashpot whose give over the trial's mean |τ| and length is 10–30 % of c·|τ|max), c
+    0.03–0.15 °/N·m but the instant and delayed gives at most 0.35 and the flow over the trial at most 0.15 over the
+    torque's stiffest rate, so the joint's angle behind the strap is well defined; magnitude: the least-squares slope
+    of the give on the torque;
   * inertia error: the dynamometer's motor seen through a non-circular gear, its ratio n(θ) = 1 + g·sin(2π(θ − θ₀)/P)
     (g 0.1–0.3, P 40–120°): torque J·n²·θ̈ + J·n·n'·θ̇²; magnitude: the least-squares coefficient of its torque on θ̈.
 - Nuisances, each below what should be named: 100–1000 Hz; Gaussian noise with a pink part (1/f, 0.2–0.4 × the
@@ -330,10 +332,12 @@ def generate_ae(kind: str, effects: tuple[str, ...] = (), seed: int = 0) -> Fami
         delayed, retardation = float(rng.uniform(0.3, 0.8)), float(rng.uniform(0.2, 1.0))
         grid = np.linspace(float(deg.min()) - 5.0, float(deg.max()) + 5.0, 2001)
         stiffest = float(np.max(np.abs(np.gradient(_elastic(kind, grid, fixed, coef), grid))))
-        # the instant and delayed gives' rate at most half the joint's stiffest (a contraction: behind_burgers_strap)
-        c_give = min(c_give, 0.5 / ((1.0 + delayed) * max(stiffest, 1e-9)))
+        # the gives' total rate (instant, delayed and the flow over the whole trial) at most half over the joint's
+        # stiffest rate, so the joint's angle behind the strap is a contraction's fixed point (behind_burgers_strap)
+        c_give = min(c_give, 0.35 / ((1.0 + delayed) * max(stiffest, 1e-9)))
         mean_abs = max(float(np.mean(np.abs(_elastic(kind, deg, fixed, coef)))), 1e-9)
         flow = float(rng.uniform(0.1, 0.3)) * c_give * tau_max / (mean_abs * max(float(t[-1]), 1e-9))
+        flow = min(flow, 0.15 / (max(stiffest, 1e-9) * max(float(t[-1]), 1e-9)))
         joint_deg = behind_burgers_strap(deg, t, lambda d: _elastic(kind, d, fixed, coef),
                                          lambda tau: burgers_give(tau, t, c_give, delayed, retardation, flow))
         tau_j = _elastic(kind, joint_deg, fixed, coef)
