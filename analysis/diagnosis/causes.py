@@ -34,7 +34,7 @@ from scipy.signal import lfilter
 from ..errors import InputError
 from .data import DiagnosisTrial
 from .policy import REVISIT_BIN_DEG, REVISIT_STILL_DEG_S
-from .transients import revisit_differenced
+from .transients import offset_steps, ramp_step, revisit_differenced
 
 FRICTION_SPEED_RAD_S = np.deg2rad(1.0)  # tanh width of a Coulomb term where one width is assumed
 #: the widths (rad/s) the diagnosis tries for the Coulomb term's tanh: a sharp sign change (dry
@@ -734,6 +734,70 @@ def wandering_drift_cause(prep: Prepared) -> Cause | None:
                  n_columns=drift.shape[1], heldout_blocks_s=span / (interior + 1))
 
 
+#: an offset that jumps: at most this many steps in one trial (each a law of its own, the criterion choosing how many),
+#: each a linear ramp of one of these widths (s), from a hard jump to one settling over two seconds, and no wider than
+#: leaves the levels beside it DRIFT_STEP_MIN_LEVEL_S (transients.offset_steps). Ramps of 2–4 s every 4 s chained into
+#: a smooth curve in time and took a spent fifth-family knee's inertia (its limb speeding up and slowing over seconds)
+#: as a drift; an offset changing over seconds is the wandering law's
+DRIFT_MAX_STEPS = 6
+DRIFT_STEP_WIDTHS_S = (0.0, 0.5, 1.0, 2.0)
+#: the shortest level an offset holds between two steps (s): twice the longest burst (BURST_DURATION_S), so that two
+#: opposite steps never make a burst's shape
+DRIFT_STEP_MIN_LEVEL_S = 4.0
+
+
+def _offset_steps(prep: Prepared) -> tuple[tuple[tuple[float, float], ...], ...]:
+    """For each count of steps up to :data:`DRIFT_MAX_STEPS`, the (time, width) in s of the offset steps
+    :func:`transients.offset_steps` finds in ``prep``'s trial (fewer counts where no more fit). Found once per trial
+    beside whatever a function of the state can explain: a free curve in angle for each direction of motion (the
+    flexible baseline's columns, and the same times a smooth sign of the velocity), a viscous term and a linear trend.
+    In a periodic sweep, steps once a cycle beside the trend make a sawtooth in time, a function of angle and direction:
+    beside the trend and one free curve in angle alone they took a spent twentieth-family knee's damping and a
+    twenty-seventh's weight error as a drift. No level held shorter than :data:`DRIFT_STEP_MIN_LEVEL_S` (two opposite
+    steps closer than that are a burst's shape). None at all in a trial without a movement cycle (:func:`movement_period_s`:
+    fewer than two turns the same way): there every stroke is one direction at one time, and an offset stepping at
+    the turns is a loss changing over the trial (a friction running in) as much as a drift."""
+    hit = prep.arg_cache.get(("offset steps",))
+    if hit is None and movement_period_s(prep) is None:
+        hit = prep.arg_cache[("offset steps",)] = ()
+    if hit is None:
+        flexible = baseline_columns(prep.trial.kind, prep.theta, prep.lo, prep.hi, True, prep.end_terms)
+        speed = float(np.percentile(np.abs(prep.omega), 90)) or 1.0
+        direction = np.tanh(prep.omega / (0.1 * speed))
+        basis = np.column_stack([flexible, flexible * direction[:, None], prep.t - prep.t.mean(), prep.omega])
+        hit = prep.arg_cache[("offset steps",)] = tuple(tuple(steps) for steps in offset_steps(
+            prep.t, basis, prep.target, DRIFT_STEP_MIN_LEVEL_S, DRIFT_MAX_STEPS, DRIFT_STEP_WIDTHS_S))
+    return tuple(hit)
+
+
+def stepping_drift_cause(count: int, prep: Prepared) -> Cause | None:
+    """The sensor drift as an offset that jumps ``count`` times (:func:`_offset_steps`' set of that many) on a
+    linear trend: a knocked cable, a loose connector, an amplifier's auto-zero. Each step's time and width are its
+    nonlinear parameters (searched on the whole trial, counted by the criterion). ``drift_Nm_per_s`` is the linear
+    trend, ``drift_step{k}_Nm`` the steps (N·m), ``drift_step{k}_s`` and ``drift_step{k}_ramp_s`` their times and ramps'
+    widths (s). None: no set of that many steps fits."""
+    sets = _offset_steps(prep)
+    if len(sets) < count:
+        return None
+    flat = tuple(v for step in sets[count - 1] for v in step)
+
+    def report(c: np.ndarray, nl: tuple[float, ...]) -> dict[str, float]:
+        return {"drift_Nm_per_s": float(c[0]), **{f"drift_step{k + 1}_Nm": float(v) for k, v in enumerate(c[1:])},
+                **{f"drift_step{k + 1}_s": float(nl[2 * k]) for k in range(len(nl) // 2)},
+                **{f"drift_step{k + 1}_ramp_s": float(nl[2 * k + 1]) for k in range(len(nl) // 2)}}
+
+    def columns(p: Prepared, nl: tuple[float, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        ramps = [ramp_step(p.t, nl[2 * k], nl[2 * k + 1]) for k in range(len(nl) // 2)]
+        return _plain(p, np.column_stack([p.t - p.t.mean(), *ramps]))
+
+    return Cause("sensor_drift", f"torque offset jumping {count} time{'s' if count > 1 else ''} (a knocked cable, a "
+                 "loose connector)", ("afo", "knee", "ankle", "replica"), columns, report, "drift_Nm_per_s",
+                 lambda p: np.array([flat]), hysteretic=True, n_columns=count + 1, n_nonlinear=2 * count,
+                 # held out on blocks of half the shortest level dealt round-robin: every level between two steps keeps
+                 # samples in each fold's fit (a cycle's blocks left a level wholly out, and nothing to predict it)
+                 heldout_blocks_s=0.5 * DRIFT_STEP_MIN_LEVEL_S)
+
+
 def burst_cause(shape: str) -> Cause:
     """The activation burst cause with the shape ``shape`` of :data:`BURST_SHAPES`."""
     return Cause("activation_burst", "transient active torque that passive tissue cannot produce", ("knee", "ankle"),
@@ -790,7 +854,9 @@ LAW_VARIANTS: dict[str, dict[str, Callable[[Prepared], Cause | None]]] = {
                 for w in ACCEL_WINDOWS_S[1:]},
     "sensor_drift": {"linear": _any_trial(functools.partial(drift_cause, "linear")),
                      "smooth": _any_trial(functools.partial(drift_cause, "smooth")),
-                     "wandering": wandering_drift_cause},
+                     "wandering": wandering_drift_cause,
+                     **{f"{k} step{'s' if k > 1 else ''}": functools.partial(stepping_drift_cause, k)
+                        for k in range(1, DRIFT_MAX_STEPS + 1)}},
 }
 
 #: laws that bend toward another cause's shape: (cause, law) → that cause. A damping saturating within the trial's

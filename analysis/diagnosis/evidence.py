@@ -148,8 +148,9 @@ def likeliest_law(prep: Prepared, cause_name: str, library: dict[str, Cause] | N
     tanh always, an arctan friction's slow approach to its amplitude was left for a second cause: a fast ankle
     sweep with friction alone (`diagnosis_wide` seed 11001) was named friction + damping (ΔBIC −25); with the
     arctan law, friction alone (its RSS 126.1 against tanh's 130.7 N·m²). A Stribeck peak after each reversal
-    is what a burst or a delay would otherwise take. Drift: linear, a smooth function of time, or one wandering
-    slower than the movement (:func:`causes.wandering_drift_cause`).
+    is what a burst or a delay would otherwise take. Drift: linear, a smooth function of time, one wandering
+    slower than the movement (:func:`causes.wandering_drift_cause`), or an offset jumping 1–6 times
+    (:func:`causes.stepping_drift_cause`).
 
     A law that bends toward another cause's shape (:data:`causes.LAW_RIVALS`: a damping saturating within the
     trial's speeds approaches a Coulomb friction) is the likeliest only if it also has a lower BIC than its

@@ -140,4 +140,148 @@ def isolated_transient(t: np.ndarray, residual: np.ndarray, start_s: float, dura
                          _level(times, duration_s, alpha, searched_durations))
 
 
-__all__ = ["TransientScan", "isolated_transient", "revisit_differenced", "revisited_share", "scan"]
+
+
+@dataclass(frozen=True)
+class _StepBasis:
+    """A basis's orthonormal columns Q, their suffix sums (row i: Σ_{j≥i} Q_j, which is Qᵀ of a hard step at i) and a
+    target's residual on them: made once, so every set of steps beside the basis costs O(n·p) and no factorisation."""
+
+    q: np.ndarray
+    suffix_q: np.ndarray
+    suffix_q_norm2: np.ndarray
+    residual: np.ndarray
+
+    @classmethod
+    def of(cls, x: np.ndarray, y: np.ndarray) -> _StepBasis:
+        q, _ = np.linalg.qr(x)
+        suffix_q = np.cumsum(q[::-1], axis=0)[::-1]
+        return cls(q, suffix_q, np.sum(suffix_q * suffix_q, axis=1), y - q @ (q.T @ y))
+
+    def steps(self, at: list[int]) -> np.ndarray:
+        """Orthonormal columns (n, len(at)) spanning hard steps at the sample indices ``at``, orthogonal to Q."""
+        n = self.q.shape[0]
+        out = np.zeros((n, 0))
+        for i in at:
+            v = (np.arange(n) >= i).astype(float) - self.q @ self.suffix_q[i]
+            v -= out @ (out.T @ v)
+            norm = float(np.linalg.norm(v))
+            if norm > 1e-9 * math.sqrt(n):
+                out = np.column_stack([out, v / norm])
+        return out
+
+
+def _best_step(basis: _StepBasis, tt: np.ndarray, steps: list[int], min_level_s: float) -> tuple[int, float]:
+    """The sample index where a hard step beside ``basis`` and hard steps at ``steps`` most lowers the residual sum of
+    squares, and by how much (-inf: no place far enough from the ends and the others). Every candidate at once: for a
+    step at sample i the gain is (Σ_{j≥i} r_j)² / ‖(I − QQᵀ) h_i‖², with suffix sums of the residual r and of the
+    orthonormal columns Q's rows."""
+    n = tt.size
+    u = basis.steps(steps)
+    r = basis.residual - u @ (u.T @ basis.residual)
+    suffix_r = np.cumsum(r[::-1])[::-1]
+    suffix_u = np.cumsum(u[::-1], axis=0)[::-1]
+    norm = (n - np.arange(n)) - basis.suffix_q_norm2 - np.sum(suffix_u * suffix_u, axis=1)
+    allowed = (tt - tt[0] >= min_level_s) & (tt[-1] - tt >= min_level_s)
+    for i in steps:
+        allowed &= np.abs(tt - tt[i]) >= min_level_s
+    gain = np.where(allowed & (norm > 1e-9 * n), suffix_r ** 2 / np.maximum(norm, 1e-300), -np.inf)
+    best = int(np.argmax(gain))
+    return best, float(gain[best])
+
+
+def offset_steps(t: np.ndarray, basis: np.ndarray, y: np.ndarray, min_level_s: float, max_steps: int,
+                 widths_s: tuple[float, ...]) -> list[list[tuple[float, float]]]:
+    """For each count k = 1, 2, … up to ``max_steps``, the k steps in ``y`` (N·m) beside the columns of ``basis``
+    (n, p) that lower its residual sum of squares most, as (time, width) in s, searched forward and back: the k − 1
+    before and the best next one (:func:`_best_step`), each then moved in turn to its best place given the others,
+    twice over; then, from the largest count down, each set replaced by the one larger less its least needed step
+    (moved likewise) where that fits better (a greedy order alone takes the middle of a staircase first). No level
+    held shorter than ``min_level_s`` (between two steps, or from a trial's end). Each step's width is the linear ramp
+    among ``widths_s`` that best fits its own step, put back into the residual, within ``min_level_s`` / 2, and no
+    wider than leaves the levels beside it ``min_level_s`` before its ramp starts (the first width always allowed).
+    Rows with a NaN are skipped; a list shorter than ``max_steps`` where no more fit.
+
+    An offset that jumps (a knocked cable, a loose connector, an auto-zero) is a function of time: at a state the trial
+    passes through before and after the jump the torque differs by the jump, which a function of the state does
+    not. How many steps a trial holds is the criterion's to judge (each step's time and width counted as parameters)."""
+    tt = np.asarray(t, dtype=float)
+    ok = np.isfinite(tt) & np.isfinite(y) & np.all(np.isfinite(basis), axis=1)
+    tt, yy, x = tt[ok], np.asarray(y, dtype=float)[ok], np.asarray(basis, dtype=float)[ok]
+    if tt.size < 8:
+        return []
+    basis_once = _StepBasis.of(x, yy)
+    sets: list[list[int]] = []
+    steps: list[int] = []
+    for _ in range(max_steps):  # forward: the sets before, one step more, each moved to its best place
+        nxt, gain = _best_step(basis_once, tt, steps, min_level_s)
+        if not np.isfinite(gain) or gain <= 0.0:
+            break
+        steps = _exchanged(basis_once, tt, [*steps, nxt], min_level_s)
+        sets.append(steps)
+    for k in range(len(sets) - 2, -1, -1):  # backward: each set against the one larger less its least needed step
+        larger = sets[k + 1]
+        fewer = min(([i for i in larger if i != drop] for drop in larger), key=lambda s: _rss(basis_once, s))
+        fewer = _exchanged(basis_once, tt, fewer, min_level_s)
+        if _rss(basis_once, fewer) < _rss(basis_once, sets[k]):
+            sets[k] = fewer
+    return [_with_widths(basis_once, yy, tt, steps, min_level_s, widths_s) for steps in sets]
+
+
+def _rss(basis: _StepBasis, steps: list[int]) -> float:
+    """The residual sum of squares beside ``basis`` and hard steps at the sample indices ``steps``."""
+    u = basis.steps(steps)
+    r = basis.residual - u @ (u.T @ basis.residual)
+    return float(r @ r)
+
+
+def _exchanged(basis: _StepBasis, tt: np.ndarray, steps: list[int], min_level_s: float) -> list[int]:
+    """``steps`` with each in turn moved to its best place given the others, twice over, sorted."""
+    steps = list(steps)
+    for _round in range(2):
+        for k in range(len(steps)):
+            moved, moved_gain = _best_step(basis, tt, steps[:k] + steps[k + 1:], min_level_s)
+            if np.isfinite(moved_gain):
+                steps[k] = moved
+    return sorted(steps)
+
+
+def _with_widths(basis: _StepBasis, y: np.ndarray, tt: np.ndarray, steps: list[int], min_level_s: float,
+                 widths_s: tuple[float, ...]) -> list[tuple[float, float]]:
+    """(time, width) of hard steps at the sample indices ``steps``: each width the ramp among ``widths_s`` fitting best,
+    with a level, that step's own fitted part put back into the whole fit's residual within ``min_level_s`` / 2."""
+    n = tt.size
+    u = basis.steps(steps)
+    r = basis.residual - u @ (u.T @ basis.residual)
+    # each step's own coefficient: the hard steps' least squares on what the basis leaves (their span is u's)
+    hard = np.column_stack([(np.arange(n) >= i).astype(float) - basis.q @ basis.suffix_q[i] for i in steps])
+    coef = np.linalg.lstsq(hard, basis.residual, rcond=None)[0]
+    out = []
+    edges = [float(tt[0]), *(float(tt[i]) for i in steps), float(tt[-1])]
+    for k, i in enumerate(steps):
+        at = 0.5 * float(tt[i - 1] + tt[i])
+        near = np.abs(tt - at) <= 0.5 * min_level_s
+        local = r[near] + coef[k] * (tt[near] >= tt[i])
+        # no wider than keeps the levels beside it flat for min_level_s: ramps chained at the shortest spacing are a
+        # smooth curve in time, not jumps
+        room = 2.0 * (min(edges[k + 1] - edges[k], edges[k + 2] - edges[k + 1]) - min_level_s)
+        best = (math.inf, float(widths_s[0]))
+        for w in (w for w in widths_s if w <= max(room, 0.0) or w == widths_s[0]):
+            design = np.column_stack([np.ones(int(near.sum())), ramp_step(tt[near], at, w)])
+            res = local - design @ np.linalg.lstsq(design, local, rcond=None)[0]
+            if float(res @ res) < best[0]:
+                best = (float(res @ res), float(w))
+        out.append((at, best[1]))
+    return out
+
+
+def ramp_step(t: np.ndarray, at_s: float, width_s: float) -> np.ndarray:
+    """0 before and 1 after a linear ramp of ``width_s`` (s) centred on ``at_s`` (a plain step for a width of 0)."""
+    tt = np.asarray(t, dtype=float)
+    if width_s <= 0.0:
+        return (tt >= at_s).astype(float)
+    return np.clip((tt - at_s) / width_s + 0.5, 0.0, 1.0)
+
+
+__all__ = ["TransientScan", "isolated_transient", "offset_steps", "ramp_step", "revisit_differenced", "revisited_share",
+           "scan"]
