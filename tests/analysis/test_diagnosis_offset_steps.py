@@ -44,7 +44,7 @@ def _basis(t: np.ndarray, theta: np.ndarray) -> np.ndarray:
                             t - t.mean()])
 
 
-@settings(max_examples=30, deadline=None)
+@settings(max_examples=15, deadline=None)
 @given(st.integers(min_value=0, max_value=2**31 - 1), st.integers(min_value=1, max_value=4))
 def test_steps_of_a_few_times_the_noise_are_found_first_where_they_are(seed: int, count: int) -> None:
     """Steps of 4–8 × the noise at random times (levels ≥ 6 s) beside a passive curve the spline must follow: the set
@@ -139,16 +139,15 @@ def _named(d: Diagnosis) -> set[str]:
 
 
 def test_a_loose_plugs_offset_jumps_are_named_a_drift_at_their_times_and_clean_trials_name_none() -> None:
-    """Four jumps of 3–5 × the noise in three cycles, seeds 0–1: the drift named, the stepping law's times within 1 s
-    of every jump. Measured on seeds 0–5: the engine before this law (its drift a line, a cubic or a spline one knot a
-    cycle) named the drift in 3 of 6 (alone in 2; nothing at seed 0), this one in 6 (alone in 4, a burst beside it at
-    seeds 0 and 5), every jump's time within 0.7 s; clean trials of the same generator name nothing on either."""
-    for seed in range(2):
-        trial, times = _plugged_knee(seed, 4)
-        d = diagnose(trial)
-        assert "sensor_drift" in _named(d), (d.cause, d.notes)
-        params = {k: v for a in d.also for k, v in a["parameters"].items()} | dict(d.parameters)
-        found = sorted(v for k, v in params.items() if re.fullmatch(r"drift_step\d+_s", k))
-        assert all(min(abs(at - f) for f in found) < 1.0 for at in times), (found, times)
-    for seed in range(2):
-        assert _named(diagnose(_plugged_knee(seed, 0)[0])) == set()
+    """Four jumps of 3–5 × the noise in three cycles, seed 0 (the engine before named nothing there): the drift named,
+    the stepping law's times within 1 s of every jump; the clean trial of that seed names nothing. Measured on seeds
+    0–5: the engine before this law (its drift a line, a cubic or a spline one knot a cycle) named the drift in 3 of 6
+    (alone in 2), this one in 6 (alone in 4, a burst beside it at seeds 0 and 5), every jump's time within 0.7 s;
+    clean trials of the same generator name nothing on either."""
+    trial, times = _plugged_knee(0, 4)
+    d = diagnose(trial)
+    assert "sensor_drift" in _named(d), (d.cause, d.notes)
+    params = {k: v for a in d.also for k, v in a["parameters"].items()} | dict(d.parameters)
+    found = sorted(v for k, v in params.items() if re.fullmatch(r"drift_step\d+_s", k))
+    assert all(min(abs(at - f) for f in found) < 1.0 for at in times), (found, times)
+    assert _named(diagnose(_plugged_knee(0, 0)[0])) == set()
