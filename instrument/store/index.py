@@ -39,6 +39,26 @@ def default_store_dir() -> Path:
     return Path(base) / "afo-gait-instrument" / "store"
 
 
+#: how long (s) opening a store waits for another process that holds its database (creating or converting it)
+OPEN_TIMEOUT_S = 10.0
+
+
+def _write_ahead_log(db: sqlite3.Connection) -> None:
+    """Put ``db`` in write-ahead-log mode, waiting up to :data:`OPEN_TIMEOUT_S` while another process converts or
+    creates the same new database: the conversion can answer "database is locked" at once, without the connection's
+    busy wait (of three processes creating one store at once, one failed so in a fresh-clone CI run at d4352e6:
+    tests/instrument/test_store_integrity.py)."""
+    deadline = time.monotonic() + OPEN_TIMEOUT_S
+    while True:
+        try:
+            db.execute("PRAGMA journal_mode=WAL")
+            return
+        except sqlite3.OperationalError as err:
+            if "locked" not in str(err) or time.monotonic() >= deadline:
+                raise
+            time.sleep(0.05)
+
+
 class SessionStore(ResultsIndex):
     """Open (creating if absent) the store in folder ``root``.
 
@@ -67,8 +87,8 @@ class SessionStore(ResultsIndex):
                     (self.root / "trials").mkdir(parents=True, exist_ok=True)
                     if not os.access(self.root, os.W_OK):  # a read-only medium (EROFS), even for root
                         raise StoreReadOnlyError(f"{self.root}: the store's folder cannot be written")
-                    self._db = sqlite3.connect(db, check_same_thread=False, timeout=10.0)
-                    self._db.execute("PRAGMA journal_mode=WAL")
+                    self._db = sqlite3.connect(db, check_same_thread=False, timeout=OPEN_TIMEOUT_S)
+                    _write_ahead_log(self._db)
                 except (OSError, sqlite3.OperationalError) as err:
                     raise StoreReadOnlyError(f"{self.root}: cannot create or write the store: {err}") from err
             self._db.row_factory = sqlite3.Row
