@@ -27,7 +27,7 @@ RATE_HZ = 50.0
 CYCLE_S = 24.0
 
 
-def _knee(duration_s: float, torque: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+def _knee(duration_s: float) -> tuple[np.ndarray, np.ndarray]:
     """Time (s) and a knee angle (rad) swept 10–85° and back every CYCLE_S seconds, cosine-shaped."""
     t = np.arange(0.0, duration_s, 1.0 / RATE_HZ)
     theta = np.deg2rad(47.5 - 37.5 * np.cos(2.0 * np.pi * t / CYCLE_S))
