@@ -33,6 +33,7 @@ from . import (
     family_ac_truth,
     family_ad_truth,
     family_ae_truth,
+    family_af_truth,
     family_b_truth,
     family_c_truth,
     family_d_truth,
@@ -100,7 +101,8 @@ FAMILIES = {"b": (family_b_truth.generate_b, family_b_truth.MAGNITUDE_KEY),
             "ab": (family_ab_truth.generate_ab, family_ab_truth.MAGNITUDE_KEY),
             "ac": (family_ac_truth.generate_ac, family_ac_truth.MAGNITUDE_KEY),
             "ad": (family_ad_truth.generate_ad, family_ad_truth.MAGNITUDE_KEY),
-            "ae": (family_ae_truth.generate_ae, family_ae_truth.MAGNITUDE_KEY)}
+            "ae": (family_ae_truth.generate_ae, family_ae_truth.MAGNITUDE_KEY),
+            "af": (family_af_truth.generate_af, family_af_truth.MAGNITUDE_KEY)}
 
 KINDS = ("afo", "knee", "ankle")
 #: pairs one trial cannot separate (the engine reports them ambiguous): not scored, as in benchmarks/diagnosis

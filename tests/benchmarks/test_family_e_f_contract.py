@@ -14,6 +14,7 @@ from benchmarks.family_ab_truth import generate_ab
 from benchmarks.family_ac_truth import generate_ac
 from benchmarks.family_ad_truth import generate_ad
 from benchmarks.family_ae_truth import generate_ae
+from benchmarks.family_af_truth import generate_af
 from benchmarks.family_b_truth import EFFECTS, MAGNITUDE_KEY
 from benchmarks.family_e_truth import generate_e
 from benchmarks.family_f_truth import generate_f
@@ -43,7 +44,7 @@ GENERATORS = {"e": generate_e, "f": generate_f, "g": generate_g, "h": generate_h
               "o": generate_o, "p": generate_p, "q": generate_q, "r": generate_r, "s": generate_s, "t": generate_t,
               "u": generate_u, "v": generate_v, "w": generate_w, "x": generate_x,
               "y": generate_y, "z": generate_z, "aa": generate_aa, "ab": generate_ab,
-              "ac": generate_ac, "ad": generate_ad, "ae": generate_ae}
+              "ac": generate_ac, "ad": generate_ad, "ae": generate_ae, "af": generate_af}
 
 
 @pytest.mark.parametrize("family", list(GENERATORS))
