@@ -103,6 +103,7 @@ from .policy import (
     MAX_DELTA_BIC_WITH_STRONG_HELDOUT,
     MAX_RATE_HZ,
     MAX_SAMPLES,
+    MIN_DRIFT_SWING_TO_NOISE,
     MIN_PEAK_TO_NOISE,
     MIN_RANGE_FRACTION,
     MIN_RATE_HZ,
@@ -339,6 +340,13 @@ class _Search:
                     ok = not self.stop_taken_up(model, self.prep, self.fit(model)[1], n_eff)
                 if not ok:
                     self.stops_not_told_from_smooth.add("+".join(model))
+        if ok and added.name == "sensor_drift":
+            # material: a drift's level is the baseline's offset, so its torque is its swing, half its peak-to-peak, which
+            # must reach MIN_DRIFT_SWING_TO_NOISE × the residual RMS on either baseline (a passive curve outside the
+            # parametric one's family inflates that fit's residual). A slow nuisance (a gain drifting over the trial, a hum
+            # aliased to a slow beat) lowers the criterion at a large n_eff with a swing of a fraction of the noise
+            ok = max(self.swing_to_noise(model), self.swing_to_noise(model, self.flex, self.flexible(model))) \
+                >= MIN_DRIFT_SWING_TO_NOISE
         if not ok and joint_stop and self.stop_is_a_kink(model, ref):
             # a kink a free curve in angle cannot follow is said, not named: a stop, or a passive end engaging within a
             # few degrees (a toe region, fibres whose onsets spread over 1–4°), which this trial cannot tell apart. Named,
@@ -560,6 +568,19 @@ class _Search:
         effect = ext[valid][:, offset] * float(f.coef[f.n_base + offset])
         noise = math.sqrt(f.rss / max(f.n, 1))
         return float(np.max(np.abs(effect))) / noise if noise > 0 and effect.size else 0.0
+
+    def swing_to_noise(self, model: tuple[str, ...], signals: Prepared | None = None, fit: CauseFit | None = None,
+                       part: str = "sensor_drift") -> float:
+        """Half the peak-to-peak torque of the cause ``part`` in ``model`` (all its columns; its mean is the baseline's
+        offset) over the model's residual RMS: its parametric fit, or ``fit`` on ``signals`` (the flexible baseline's)."""
+        cause, f = self.fit(model)
+        f = f if fit is None else fit
+        offset = _part_offset(cause, part)
+        count = _ext_count(next(p for p in cause.parts or (cause,) if p.name == part))
+        _, ext, valid = cause.columns(self.prep if signals is None else signals, f.nonlinear)
+        effect = ext[valid][:, offset:offset + count] @ f.coef[f.n_base + offset:f.n_base + offset + count]
+        noise = math.sqrt(f.rss / max(f.n, 1))
+        return float(np.ptp(effect)) / 2.0 / noise if noise > 0 and effect.size else 0.0
 
     def stop_t(self, model: tuple[str, ...], n_eff: float) -> float:
         """t statistic of the hard stop's stiffness in ``model`` (its standard error inflated by n / n_eff)."""
