@@ -19,10 +19,10 @@ def _named(kind: str, effects: tuple[str, ...], seed: int) -> set[str]:
     return ({d.cause} - {"none"}) | {a["cause"] for a in d.also}
 
 
-@pytest.mark.parametrize(("kind", "seed"), [("knee", 104), ("afo", 100)])
-def test_a_slow_nuisance_swinging_less_than_twice_the_noise_is_not_named_a_drift(kind: str, seed: int) -> None:
-    """Named a drift on df6b331; swings 0.29 and 0.30 (knee), 0.13 and 0.56 (AFO) × the noise on the parametric and
-    flexible baselines."""
+@pytest.mark.parametrize(("kind", "seed"), [("knee", 104), ("afo", 102)])
+def test_a_slow_nuisance_swinging_less_than_the_noise_is_not_named_a_drift(kind: str, seed: int) -> None:
+    """Named a drift on df6b331; the drift alone swings 0.29 and 0.30 (knee), 0.13 and 0.46 (AFO) × the residual RMS
+    on the parametric and flexible baselines."""
     assert "sensor_drift" not in _named(kind, (), seed)
 
 
