@@ -164,6 +164,8 @@ class _Search:
         self.stops_not_told_from_smooth: set[str] = set()
         #: the starts (s) of bursts refused because the trial reaches their angles only then (MIN_REVISITED_BURST_SHARE)
         self.bursts_at_unrevisited_angles: list[float] = []
+        #: swings (× the residual RMS) of drifts the criterion accepted but too small to be material
+        self.drift_swings_below_noise: list[float] = []
 
     def fit(self, names: tuple[str, ...]) -> tuple[Cause, CauseFit]:
         key = "+".join(names)
@@ -345,8 +347,10 @@ class _Search:
             # must reach MIN_DRIFT_SWING_TO_NOISE × the residual RMS on either baseline (a passive curve outside the
             # parametric one's family inflates that fit's residual). A slow nuisance (a gain drifting over the trial, a hum
             # aliased to a slow beat) lowers the criterion at a large n_eff with a swing of a fraction of the noise
-            ok = max(self.swing_to_noise(model), self.swing_to_noise(model, self.flex, self.flexible(model))) \
-                >= MIN_DRIFT_SWING_TO_NOISE
+            swing = max(self.swing_to_noise(model), self.swing_to_noise(model, self.flex, self.flexible(model)))
+            ok = swing >= MIN_DRIFT_SWING_TO_NOISE
+            if not ok:
+                self.drift_swings_below_noise.append(swing)
         if not ok and joint_stop and self.stop_is_a_kink(model, ref):
             # a kink a free curve in angle cannot follow is said, not named: a stop, or a passive end engaging within a
             # few degrees (a toe region, fibres whose onsets spread over 1–4°), which this trial cannot tell apart. Named,
@@ -778,6 +782,10 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
         notes.append(f"an event about {min(search.bursts_at_unrevisited_angles):.0f} s into the trial lies at angles the "
                      "trial reaches only then: a burst, or the passive curve at those angles, which this trial cannot "
                      f"tell apart, so neither is named; to tell them apart: {BURST_OR_UNREVISITED_HINT}")
+    if "sensor_drift" not in chosen and search.drift_swings_below_noise:
+        notes.append(f"the torque's zero wanders by about {max(search.drift_swings_below_noise):.1f} × the residual noise: "
+                     "below the noise, so no drift is named (a gain changing slowly or mains hum aliased to a slow beat "
+                     "does this); zero the sensor before the trial, and read small torques with that in mind")
     final_cause, final = search.fit(chosen) if chosen else (CAUSES["none"], base)
     n_eff = effective_n(prep.torque - final.prediction)
     if n_eff <= 20:
