@@ -560,30 +560,32 @@ class _Search:
         ok = np.isfinite(resid) & np.isfinite(flex_resid)
         return bool(ok.sum() >= 10 and float(np.mean(resid[ok] ** 2)) < float(np.mean(flex_resid[ok] ** 2)))
 
+    def _part_to_noise(self, model: tuple[str, ...], part: str, signals: Prepared | None, fit: CauseFit | None,
+                       count: int) -> tuple[np.ndarray, float]:
+        """(the torque of ``count`` columns of the cause ``part`` in ``model``, the model's residual RMS): its parametric
+        fit, or ``fit`` on ``signals`` (the flexible baseline's)."""
+        cause, f = self.fit(model)
+        f = f if fit is None else fit
+        offset = _part_offset(cause, part)
+        _, ext, valid = cause.columns(self.prep if signals is None else signals, f.nonlinear)
+        effect = ext[valid][:, offset:offset + count] @ f.coef[f.n_base + offset:f.n_base + offset + count]
+        return effect, math.sqrt(f.rss / max(f.n, 1))
+
     def peak_to_noise(self, model: tuple[str, ...], part: str = "hard_stop", signals: Prepared | None = None,
                       fit: CauseFit | None = None) -> float:
         """The largest torque of the one-column cause ``part`` (a hard stop: at the end of the range) in ``model`` over
         the model's residual RMS: its parametric fit, or ``fit`` on ``signals`` (the flexible baseline's,
         :meth:`stop_is_a_kink`)."""
-        cause, f = self.fit(model)
-        f = f if fit is None else fit
-        offset = _part_offset(cause, part)
-        _, ext, valid = cause.columns(self.prep if signals is None else signals, f.nonlinear)
-        effect = ext[valid][:, offset] * float(f.coef[f.n_base + offset])
-        noise = math.sqrt(f.rss / max(f.n, 1))
+        effect, noise = self._part_to_noise(model, part, signals, fit, 1)
         return float(np.max(np.abs(effect))) / noise if noise > 0 and effect.size else 0.0
 
     def swing_to_noise(self, model: tuple[str, ...], signals: Prepared | None = None, fit: CauseFit | None = None,
                        part: str = "sensor_drift") -> float:
         """Half the peak-to-peak torque of the cause ``part`` in ``model`` (all its columns; its mean is the baseline's
         offset) over the model's residual RMS: its parametric fit, or ``fit`` on ``signals`` (the flexible baseline's)."""
-        cause, f = self.fit(model)
-        f = f if fit is None else fit
-        offset = _part_offset(cause, part)
+        cause = self.fit(model)[0]
         count = _ext_count(next(p for p in cause.parts or (cause,) if p.name == part))
-        _, ext, valid = cause.columns(self.prep if signals is None else signals, f.nonlinear)
-        effect = ext[valid][:, offset:offset + count] @ f.coef[f.n_base + offset:f.n_base + offset + count]
-        noise = math.sqrt(f.rss / max(f.n, 1))
+        effect, noise = self._part_to_noise(model, part, signals, fit, count)
         return float(np.ptp(effect)) / 2.0 / noise if noise > 0 and effect.size else 0.0
 
     def stop_t(self, model: tuple[str, ...], n_eff: float) -> float:
