@@ -47,8 +47,8 @@ def test_random_effects_from_seeds_on_afo_trials() -> None:
 
 
 def test_without_an_effect_none_comes_out_in_95_percent_of_seeds() -> None:
-    """On the first 40 AFO, 20 replica and 10 ankle seeds none was named in 70 of 70 (fortieth stop, engine df6b331 with
-    the drift's swing test); the suite runs the first 20, 10 and 10 of them."""
+    """On the first 40 AFO, 20 replica and 10 ankle seeds none was named in 70 of 70 (fortieth stop, the engine with
+    the drift's floor as kept); the suite runs the first 20, 10 and 10 of them."""
     for kind, seeds in (("afo", 20), ("replica", 10), ("ankle", 10)):
         found = [diagnose(make_trial(kind, "none", 900 + s)[0]).cause for s in range(seeds)]
         assert found.count("none") >= 0.95 * seeds, (kind, found)
