@@ -103,19 +103,36 @@ from .policy import (
     MAX_DELTA_BIC_WITH_STRONG_HELDOUT,
     MAX_RATE_HZ,
     MAX_SAMPLES,
-    MIN_DRIFT_SWING_TO_NOISE,
     MIN_PEAK_TO_NOISE,
     MIN_RANGE_FRACTION,
     MIN_RATE_HZ,
     MIN_REVISITED_BURST_SHARE,
+    MIN_SWING_TO_NOISE,
     REVISIT_BIN_DEG,
     REVISIT_STILL_DEG_S,
     STRONG_HELDOUT_GAIN,
     STRONG_MIN_HELDOUT_IMPROVEMENT,
+    SWING_CAUSES,
 )
 from .result import Candidate, Diagnosis, magnitude
 from .transients import TransientScan, isolated_transient, revisit_differenced, revisited_share
 from .transients import scan as scan_residual
+
+
+def play_alike_text(prep: Prepared, base: CauseFit, friction_nm: float) -> str:
+    """What a named friction's loop (``friction_nm`` N·m each way) would be as play in the angle's coupling: the play
+    (deg) that shifts the baseline ``base``'s torque by as much at the trial's mean stiffness (the slope of its
+    prediction on the angle). Play lags the measured angle a fixed amount behind the joint after each reversal, so on a
+    spring of constant stiffness its loop is a friction's; only the joint's own curve (stiffer at its ends, where play's
+    loop widens and a friction's does not) or the coupling itself tells them apart."""
+    ok = np.isfinite(base.prediction)
+    slope_nm_per_deg = math.radians(1.0) * float(np.polyfit(prep.theta[ok], base.prediction[ok], 1)[0]) if ok.sum() > 2 else 0.0
+    if abs(slope_nm_per_deg) < 1e-9:
+        return "coulomb_friction: its loop is also what play in the angle's coupling makes; check the coupling for play"
+    play_deg = abs(friction_nm / slope_nm_per_deg)
+    return (f"coulomb_friction: its loop ({friction_nm:.3g} N·m each way) is also what play of about {play_deg:.2g}° in the "
+            f"angle's coupling makes at this trial's mean stiffness ({abs(slope_nm_per_deg):.3g} N·m/°); check the "
+            "coupling for play before reading it as the specimen's friction")
 
 
 def _part_offset(cause: Cause, name: str = "hard_stop") -> int:
@@ -164,8 +181,9 @@ class _Search:
         self.stops_not_told_from_smooth: set[str] = set()
         #: the starts (s) of bursts refused because the trial reaches their angles only then (MIN_REVISITED_BURST_SHARE)
         self.bursts_at_unrevisited_angles: list[float] = []
-        #: swings (× the residual RMS) of drifts the criterion accepted but too small to be material
-        self.drift_swings_below_noise: list[float] = []
+        #: swings (× the residual RMS) of drifts, frictions and dampings the criterion accepted but too small to be
+        #: material, by cause
+        self.swings_below_noise: dict[str, list[float]] = {}
 
     def fit(self, names: tuple[str, ...]) -> tuple[Cause, CauseFit]:
         key = "+".join(names)
@@ -342,15 +360,17 @@ class _Search:
                     ok = not self.stop_taken_up(model, self.prep, self.fit(model)[1], n_eff)
                 if not ok:
                     self.stops_not_told_from_smooth.add("+".join(model))
-        if ok and added.name == "sensor_drift":
-            # material: a drift's level is the baseline's offset, so its torque is its swing, half its peak-to-peak, which
-            # must reach MIN_DRIFT_SWING_TO_NOISE × the residual RMS on either baseline (a passive curve outside the
-            # parametric one's family inflates that fit's residual). A slow nuisance (a gain drifting over the trial, a hum
-            # aliased to a slow beat) lowers the criterion at a large n_eff with a swing of a fraction of the noise
-            swing = max(self.swing_to_noise(model), self.swing_to_noise(model, self.flex, self.flexible(model)))
-            ok = swing >= MIN_DRIFT_SWING_TO_NOISE
+        if ok and added.name in SWING_CAUSES:
+            # material: a cause acting through the whole trial must swing (half its peak-to-peak torque: a drift's mean is
+            # the baseline's offset, a friction's swing is its level) MIN_SWING_TO_NOISE × the residual RMS on either
+            # baseline (a passive curve outside the parametric one's family inflates that fit's residual). A slow nuisance
+            # (a gain drifting over the trial, a hum aliased to a slow beat) or play in the angle's coupling (a loop as
+            # wide as the play times the stiffness) lowers the criterion at a large n_eff with a fraction of the noise
+            swing = max(self.swing_to_noise(model, part=added.name),
+                        self.swing_to_noise(model, self.flex, self.flexible(model), part=added.name))
+            ok = swing >= MIN_SWING_TO_NOISE
             if not ok:
-                self.drift_swings_below_noise.append(swing)
+                self.swings_below_noise.setdefault(added.name, []).append(swing)
         if not ok and joint_stop and self.stop_is_a_kink(model, ref):
             # a kink a free curve in angle cannot follow is said, not named: a stop, or a passive end engaging within a
             # few degrees (a toe region, fibres whose onsets spread over 1–4°), which this trial cannot tell apart. Named,
@@ -784,10 +804,16 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
         notes.append(f"an event about {min(search.bursts_at_unrevisited_angles):.0f} s into the trial lies at angles the "
                      "trial reaches only then: a burst, or the passive curve at those angles, which this trial cannot "
                      f"tell apart, so neither is named; to tell them apart: {BURST_OR_UNREVISITED_HINT}")
-    if "sensor_drift" not in chosen and search.drift_swings_below_noise:
-        notes.append(f"the torque's zero wanders by about {max(search.drift_swings_below_noise):.1f} × the residual noise: "
+    drift_swings = search.swings_below_noise.get("sensor_drift", [])
+    if "sensor_drift" not in chosen and drift_swings:
+        notes.append(f"the torque's zero wanders by about {max(drift_swings):.1f} × the residual noise: "
                      "below the noise, so no drift is named (a gain changing slowly or mains hum aliased to a slow beat "
                      "does this); zero the sensor before the trial, and read small torques with that in mind")
+    loop_swings = [*search.swings_below_noise.get("coulomb_friction", []), *search.swings_below_noise.get("viscous_damping", [])]
+    if loop_swings and not {"coulomb_friction", "viscous_damping"}.intersection(chosen):
+        notes.append(f"loading and unloading differ by about {max(loop_swings):.1f} × the residual noise (a loop): below "
+                     "the noise, so no friction or damping is named (play of a few hundredths of a degree in the angle's "
+                     "coupling does this, as does a little friction); check the encoder's coupling for play")
     final_cause, final = search.fit(chosen) if chosen else (CAUSES["none"], base)
     n_eff = effective_n(prep.torque - final.prediction)
     if n_eff <= 20:
@@ -822,6 +848,9 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
                   **{key: mean_se})
         notes.append(f"{name}: {key} averaged over " + ", ".join(f"{o.label} ({o.weight:.2f})" for o in fitted)
                      + f"; its other parameters from the likeliest ({likeliest.label})")
+    friction_nm = (params if "friction_Nm" in params else also[0]["parameters"] if also else {}).get("friction_Nm")
+    if friction_nm is not None:
+        notes.append(play_alike_text(prep, base, float(friction_nm)))
     systematic = systematic_regions(prep, prep.torque - base.prediction, n_eff)
     ho_final = search.heldout(chosen) if chosen and not final_cause.transient else (base_ho if not chosen else float("nan"))
     delta = bic(final, n_eff) - bic(base, n_eff) if chosen else 0.0

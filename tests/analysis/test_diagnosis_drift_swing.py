@@ -1,4 +1,4 @@
-"""A drift must be material: its swing (half its peak-to-peak torque) at least MIN_DRIFT_SWING_TO_NOISE × the residual RMS
+"""A drift must be material: its swing (half its peak-to-peak torque) at least MIN_SWING_TO_NOISE × the residual RMS
 on either baseline.
 
 The thirtieth family's slow nuisances (a gain drifting 0.5–1.5 % over the trial, mains hum aliased to a 0.05–0.5 Hz beat
