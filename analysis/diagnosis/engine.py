@@ -58,6 +58,7 @@ from scipy.optimize import minimize, minimize_scalar
 
 from ..errors import InputError
 from ..trial_csv import NOMINAL_RANGE_DEG
+from .baseline_choice import adopt_steeper_ends
 from .causes import (
     AFO_STOP_OR_SPRING_HINT,
     ARGUMENT_CAUSES,
@@ -355,7 +356,7 @@ class _Search:
             # took a stop 200× better in fit at a held-out gain of 11.8 (the first generator, seed 101: a few holds'
             # worth of independent samples), and no development family has replica trials to measure it on
             if ok and self.prep.trial.kind != "replica":
-                ok = self.stop_beats_smooth_rival(model)
+                ok = self.stop_beats_smooth_rival(model) and not self.at_adopted_end(model)
                 if ok and joint_stop:  # and a joint's stop not taken up over degrees (a rounded engagement, a toe)
                     ok = not self.stop_taken_up(model, self.prep, self.fit(model)[1], n_eff)
                 if not ok:
@@ -547,6 +548,14 @@ class _Search:
                                                          self.folds_of(model)[1]))
         return self._smooth[key]
 
+    def at_adopted_end(self, model: tuple[str, ...]) -> bool:
+        """Whether the stop in ``model`` sits at an end where the baseline adopted a steeper passive curve
+        (baseline_choice): the data there already preferred a smooth stiffening, and a stop beside it is the same curve
+        steeper still, which one trial cannot tell from the spring's."""
+        stop = math.radians(self.fit(model)[1].params["stop_angle_deg"])
+        end = "high" if stop >= 0.5 * (self.prep.lo + self.prep.hi) else "low"
+        return any(e == end for e, _ in self.prep.end_terms) and self.prep.trial.kind == "afo"
+
     def stop_beats_smooth_rival(self, model: tuple[str, ...]) -> bool:
         """Whether the stop in ``model`` predicts held-out blocks better than a smooth stiffening at its end by
         strong held-out evidence (n_eff · ln of their held-out MSE ratio > :data:`STRONG_HELDOUT_GAIN`, n_eff of
@@ -657,6 +666,13 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
     if "none" not in names:
         names.insert(0, "none")
     notes: list[str] = [trial.left_out_text()] if trial.rows_left_out else []
+    # the baseline's own curve first: a steeper end where the data ask for it (baseline_choice), judged as a cause is
+    prep, steeper = adopt_steeper_ends(prep, folds, min_delta_bic, min_heldout_gain)
+    for end_term in steeper:
+        notes.append(f"the passive curve stiffens at its {end_term.end} end faster than the baseline's family: an exponential of "
+                     f"{end_term.rate_per_rad:.1f} /rad (an e-folding of {math.degrees(1.0 / end_term.rate_per_rad):.1f}°) was "
+                     f"added to the baseline (ΔBIC {end_term.delta_bic:.0f}, held-out gain {end_term.heldout_gain:.0f}); "
+                     "every cause is judged against that curve")
     if trial.rate_hz < 0.9 * min(rate_in, max_rate_hz):
         notes.append(f"diagnosed on block means at {trial.rate_hz:.0f} Hz ({trial.time_s.size} samples) of the "
                      f"{rate_in:.0f} Hz recording: a long trial is averaged down; effects faster than "
