@@ -49,6 +49,7 @@ BENCHMARKS = {"drivers": "benchmarks.drivers", "pmp_opensim": "benchmarks.pmp_op
              "diagnosis_family_ae": "benchmarks.diagnosis_family_ae",
              "diagnosis_family_af": "benchmarks.diagnosis_family_af",
              "diagnosis_family_ag": "benchmarks.diagnosis_family_ag",
+             "diagnosis_family_ah": "benchmarks.diagnosis_family_ah",
               "sindy_peer_families": "benchmarks.sindy_peer_families",
               "pmp_realistic": "benchmarks.pmp_realistic", "lsl": "benchmarks.lsl",
               "pmp_speed": "benchmarks.pmp_speed", "pmp_segment_scales": "benchmarks.pmp_segment_scales"}

@@ -35,6 +35,7 @@ from . import (
     family_ae_truth,
     family_af_truth,
     family_ag_truth,
+    family_ah_truth,
     family_b_truth,
     family_c_truth,
     family_d_truth,
@@ -104,7 +105,8 @@ FAMILIES = {"b": (family_b_truth.generate_b, family_b_truth.MAGNITUDE_KEY),
             "ad": (family_ad_truth.generate_ad, family_ad_truth.MAGNITUDE_KEY),
             "ae": (family_ae_truth.generate_ae, family_ae_truth.MAGNITUDE_KEY),
             "af": (family_af_truth.generate_af, family_af_truth.MAGNITUDE_KEY),
-            "ag": (family_ag_truth.generate_ag, family_ag_truth.MAGNITUDE_KEY)}
+            "ag": (family_ag_truth.generate_ag, family_ag_truth.MAGNITUDE_KEY),
+            "ah": (family_ah_truth.generate_ah, family_ah_truth.MAGNITUDE_KEY)}
 
 KINDS = ("afo", "knee", "ankle")
 #: pairs one trial cannot separate (the engine reports them ambiguous): not scored, as in benchmarks/diagnosis

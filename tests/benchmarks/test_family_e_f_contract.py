@@ -16,6 +16,7 @@ from benchmarks.family_ad_truth import generate_ad
 from benchmarks.family_ae_truth import generate_ae
 from benchmarks.family_af_truth import generate_af
 from benchmarks.family_ag_truth import generate_ag
+from benchmarks.family_ah_truth import generate_ah
 from benchmarks.family_b_truth import EFFECTS, MAGNITUDE_KEY
 from benchmarks.family_e_truth import generate_e
 from benchmarks.family_f_truth import generate_f
@@ -46,7 +47,7 @@ GENERATORS = {"e": generate_e, "f": generate_f, "g": generate_g, "h": generate_h
               "u": generate_u, "v": generate_v, "w": generate_w, "x": generate_x,
               "y": generate_y, "z": generate_z, "aa": generate_aa, "ab": generate_ab,
               "ac": generate_ac, "ad": generate_ad, "ae": generate_ae, "af": generate_af,
-              "ag": generate_ag}
+              "ag": generate_ag, "ah": generate_ah}
 
 
 @pytest.mark.parametrize("family", list(GENERATORS))
