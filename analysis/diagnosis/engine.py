@@ -2,6 +2,9 @@
 
 Selection, in order:
 
+0. the baseline first: an orthosis's quadratic spring adopts up to two steeper exponential ends where its bend asks
+   for them by the same criterion and held-out gain, and only where a smooth end fits better than a hinge would
+   (:func:`baseline_choice.adopt_steeper_ends`); a stop at an adopted end is said, not named;
 1. every candidate is fitted jointly with the baseline (least squares; nonlinear parameters by a
    grid and a bounded refinement; passive causes keep their physical sign by an active set);
 2. held-out error: the trial is cut into ``folds`` contiguous time blocks; each block is
