@@ -123,20 +123,40 @@ from .transients import TransientScan, isolated_transient, revisit_differenced, 
 from .transients import scan as scan_residual
 
 
+def mean_stiffness_nm_per_deg(prep: Prepared, base: CauseFit) -> float:
+    """The trial's mean stiffness (N·m/°): the slope of the baseline ``base``'s prediction on the angle (0 where it has
+    too few predicted samples)."""
+    ok = np.isfinite(base.prediction)
+    return math.radians(1.0) * float(np.polyfit(prep.theta[ok], base.prediction[ok], 1)[0]) if ok.sum() > 2 else 0.0
+
+
 def play_alike_text(prep: Prepared, base: CauseFit, friction_nm: float) -> str:
     """What a named friction's loop (``friction_nm`` N·m each way) would be as play in the angle's coupling: the play
-    (deg) that shifts the baseline ``base``'s torque by as much at the trial's mean stiffness (the slope of its
-    prediction on the angle). Play lags the measured angle a fixed amount behind the joint after each reversal, so on a
-    spring of constant stiffness its loop is a friction's; only the joint's own curve (stiffer at its ends, where play's
-    loop widens and a friction's does not) or the coupling itself tells them apart."""
-    ok = np.isfinite(base.prediction)
-    slope_nm_per_deg = math.radians(1.0) * float(np.polyfit(prep.theta[ok], base.prediction[ok], 1)[0]) if ok.sum() > 2 else 0.0
+    (deg) that shifts the baseline ``base``'s torque by as much at the trial's mean stiffness. Play lags the measured
+    angle a fixed amount behind the joint after each reversal, so on a spring of constant stiffness its loop is a
+    friction's; only the joint's own curve (stiffer at its ends, where play's loop widens and a friction's does not) or
+    the coupling itself tells them apart."""
+    slope_nm_per_deg = mean_stiffness_nm_per_deg(prep, base)
     if abs(slope_nm_per_deg) < 1e-9:
         return "coulomb_friction: its loop is also what play in the angle's coupling makes; check the coupling for play"
     play_deg = abs(friction_nm / slope_nm_per_deg)
     return (f"coulomb_friction: its loop ({friction_nm:.3g} N·m each way) is also what play of about {play_deg:.2g}° in the "
             f"angle's coupling makes at this trial's mean stiffness ({abs(slope_nm_per_deg):.3g} N·m/°); check the "
             "coupling for play before reading it as the specimen's friction")
+
+
+def lag_alike_text(prep: Prepared, base: CauseFit, damping_nm_s_per_rad: float) -> str:
+    """What a named damping's loop (b, N·m·s/rad) would be as a torque channel lagging the angle: the lag τ = b / k (s)
+    at the trial's mean stiffness k. A torque read τ late is τ(θ) − k·τ·θ̇ to first order, a viscous loop of b = k·τ;
+    a skew of a few milliseconds between the angle's and the torque's samples makes it on fast bends (the spent
+    thirty-third family's clean orthosis trials: a damping named in 11 of 20 from a skew of 0.2–4.6 ms)."""
+    slope_nm_per_rad = math.degrees(mean_stiffness_nm_per_deg(prep, base))
+    if abs(slope_nm_per_rad) < 1e-9:
+        return "viscous_damping: its loop is also what a torque channel lagging the angle makes; check the channels' timing"
+    lag_ms = 1000.0 * abs(damping_nm_s_per_rad / slope_nm_per_rad)
+    return (f"viscous_damping: its loop (b = {damping_nm_s_per_rad:.3g} N·m·s/rad) is also what a torque channel lagging the "
+            f"angle by about {lag_ms:.2g} ms makes at this trial's mean stiffness ({abs(math.radians(slope_nm_per_rad)):.3g} "
+            "N·m/°); check the skew between the angle's and the torque's samples before reading it as the specimen's damping")
 
 
 def _part_offset(cause: Cause, name: str = "hard_stop") -> int:
@@ -867,9 +887,11 @@ def diagnose(trial: DiagnosisTrial, *, causes: list[str] | None = None, folds: i
                   **{key: mean_se})
         notes.append(f"{name}: {key} averaged over " + ", ".join(f"{o.label} ({o.weight:.2f})" for o in fitted)
                      + f"; its other parameters from the likeliest ({likeliest.label})")
-    friction_nm = (params if "friction_Nm" in params else also[0]["parameters"] if also else {}).get("friction_Nm")
-    if friction_nm is not None:
-        notes.append(play_alike_text(prep, base, float(friction_nm)))
+    named_params = {**params, **(also[0]["parameters"] if also else {})}
+    if "friction_Nm" in named_params:
+        notes.append(play_alike_text(prep, base, float(named_params["friction_Nm"])))
+    if "damping_Nm_s_per_rad" in named_params:
+        notes.append(lag_alike_text(prep, base, float(named_params["damping_Nm_s_per_rad"])))
     systematic = systematic_regions(prep, prep.torque - base.prediction, n_eff)
     ho_final = search.heldout(chosen) if chosen and not final_cause.transient else (base_ho if not chosen else float("nan"))
     delta = bic(final, n_eff) - bic(base, n_eff) if chosen else 0.0
