@@ -56,6 +56,7 @@ from typing import Any
 
 import numpy as np
 from scipy.signal import butter, lfilter
+from scipy.special import expit
 
 # the scoring contract every family shares with the harness (benchmarks.diagnosis_family_b): the effects each kind
 # may hide, the engine's magnitude key per cause, the trial record; the physics below is this family's own
@@ -161,7 +162,7 @@ def preloaded_stop(deg: np.ndarray, at_deg: float, high: bool, preload_share: fl
     torque at 10° past contact, smoothed over 0.3° (a logistic), plus δ (deg past ``at_deg`` toward the end)."""
     sign = 1.0 if high else -1.0
     past = sign * (np.asarray(deg, dtype=float) - at_deg)
-    step = preload_share / (1.0 - preload_share) * 10.0 / (1.0 + np.exp(-past / 0.3 * 4.0))
+    step = preload_share / (1.0 - preload_share) * 10.0 * expit(past / 0.3 * 4.0)  # a logistic, without overflow
     return np.asarray(sign * (np.clip(past, 0.0, None) + step * (past > -3.0)), dtype=float)
 
 
@@ -196,7 +197,7 @@ def two_slope_cable(torque: np.ndarray, compliance: float, knee_nm: float, ratio
 
 def mounted_mass(t: np.ndarray, at_s: float) -> np.ndarray:
     """The share of an added inertia present at each time: a logistic step at ``at_s`` over about 1 s."""
-    return np.asarray(1.0 / (1.0 + np.exp(-(np.asarray(t, dtype=float) - at_s) / 0.25)), dtype=float)
+    return np.asarray(expit((np.asarray(t, dtype=float) - at_s) / 0.25), dtype=float)
 
 
 def brownian_part(rng: np.random.Generator, n: int, rate: float, sd: float) -> np.ndarray:
