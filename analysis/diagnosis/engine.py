@@ -146,17 +146,20 @@ def play_alike_text(prep: Prepared, base: CauseFit, friction_nm: float) -> str:
 
 
 def lag_alike_text(prep: Prepared, base: CauseFit, damping_nm_s_per_rad: float) -> str:
-    """What a named damping's loop (b, N·m·s/rad) would be as a torque channel lagging the angle: the lag τ = b / k (s)
-    at the trial's mean stiffness k. A torque read τ late is τ(θ) − k·τ·θ̇ to first order, a viscous loop of b = k·τ;
-    a skew of a few milliseconds between the angle's and the torque's samples makes it on fast bends (the spent
-    thirty-third family's clean orthosis trials: a damping named in 11 of 20 from a skew of 0.2–4.6 ms)."""
+    """What a named damping's loop (b, N·m·s/rad) would be as the angle channel lagging the torque: the lag τ = b / k (s)
+    at the trial's mean stiffness k. An angle read τ late, θ(t − τ), under a torque f(θ(t)) shows f(θ_read) + k·τ·θ̇ to
+    first order: a viscous loop of b = k·τ. A torque channel lagging the angle makes the opposite loop (a delay, which the
+    search tries with τ ≥ 0); an angle lagging the torque is a negative delay, outside it. A skew of a few milliseconds
+    between the angle's and the torque's samples makes this loop on fast bends (the spent thirty-third family's clean
+    orthosis trials: a damping named in 11 of 20 from the torque sampled 0.2–4.6 ms after the angle)."""
     slope_nm_per_rad = math.degrees(mean_stiffness_nm_per_deg(prep, base))
     if abs(slope_nm_per_rad) < 1e-9:
-        return "viscous_damping: its loop is also what a torque channel lagging the angle makes; check the channels' timing"
+        return "viscous_damping: its loop is also what an angle channel lagging the torque makes; check the channels' timing"
     lag_ms = 1000.0 * abs(damping_nm_s_per_rad / slope_nm_per_rad)
-    return (f"viscous_damping: its loop (b = {damping_nm_s_per_rad:.3g} N·m·s/rad) is also what a torque channel lagging the "
-            f"angle by about {lag_ms:.2g} ms makes at this trial's mean stiffness ({abs(math.radians(slope_nm_per_rad)):.3g} "
-            "N·m/°); check the skew between the angle's and the torque's samples before reading it as the specimen's damping")
+    return (f"viscous_damping: its loop (b = {damping_nm_s_per_rad:.3g} N·m·s/rad) is also what an angle channel lagging the "
+            f"torque by about {lag_ms:.2g} ms makes at this trial's mean stiffness ({abs(math.radians(slope_nm_per_rad)):.3g} "
+            "N·m/°; the torque sampled that much after the angle); check the skew between the angle's and the torque's "
+            "samples before reading it as the specimen's damping")
 
 
 def _part_offset(cause: Cause, name: str = "hard_stop") -> int:

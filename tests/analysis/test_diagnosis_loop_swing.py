@@ -49,10 +49,11 @@ def test_a_named_friction_says_the_play_that_would_make_the_same_loop() -> None:
 
 @pytest.mark.parametrize(("seed", "skew_ms"), [(100, 4.53), (103, 4.59), (107, 2.49)])
 def test_a_named_damping_says_the_channel_lag_that_would_make_the_same_loop(seed: int, skew_ms: float) -> None:
-    """The spent thirty-third family's clean orthoses sample the torque 0.2–0.5 of a sample after the angle; at 100 Hz
-    on bends of up to 70 °/s that skew's loop is named a damping (b = k·τ on a spring of constant stiffness). The report
-    gives the lag b / k: within 15 % of the generator's skew (its draws replayed after that family's run)."""
+    """The spent thirty-third family's clean orthoses sample the torque 0.2–0.5 of a sample after the angle (the angle
+    lags the torque); at 100 Hz on bends of up to 70 °/s that skew's loop is named a damping (b = k·τ on a spring of
+    constant stiffness). The report gives the lag b / k: within 15 % of the generator's skew (its draws replayed after
+    that family's run)."""
     d = diagnose(_trial(FAMILIES["ag"][0]("afo", (), seed)))
     text = next(n for n in d.notes if n.startswith("viscous_damping: its loop (b = "))
-    lag_ms = float(text.split("lagging the angle by about ")[1].split(" ms")[0])
+    lag_ms = float(text.split("lagging the torque by about ")[1].split(" ms")[0])
     assert lag_ms == pytest.approx(skew_ms, rel=0.15)
