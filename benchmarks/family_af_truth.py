@@ -73,6 +73,7 @@ from .family_scaffold import (
     kinematics,
     limb_load,
     protocol_set_up,
+    softplus,
     trial_rng,
 )
 
@@ -83,16 +84,12 @@ COUPLING_SHIFT = (0.05, 0.2)
 FLORES_REFERENCE_DEG_S = 5.0
 
 
-def _softplus(x_deg: np.ndarray, smoothing_deg: float) -> np.ndarray:
-    return np.asarray(smoothing_deg * np.logaddexp(0.0, np.asarray(x_deg, dtype=float) / smoothing_deg), dtype=float)
-
-
 def knowles_tension(x_deg: np.ndarray, smoothing_deg: float, reach_deg: float, exponent: float, hardening: float
                     ) -> np.ndarray:
     """An end per unit μ: (1 + (b/n)(I₁ − 3))^(n−1)·(λ − λ⁻²), I₁ = λ² + 2/λ, λ = 1 + x̄/L with x̄ the softplus of the
     angle ``x_deg`` past the onset over ``smoothing_deg``, L = ``reach_deg``, n = ``exponent``, b = ``hardening``
     (n = 1: the neo-Hookean solid)."""
-    lam = 1.0 + _softplus(x_deg, smoothing_deg) / reach_deg
+    lam = 1.0 + softplus(x_deg, smoothing_deg) / reach_deg
     invariant = lam * lam + 2.0 / lam
     return np.asarray((1.0 + hardening / exponent * (invariant - 3.0)) ** (exponent - 1.0) * (lam - lam**-2), dtype=float)
 
@@ -101,7 +98,7 @@ def hart_smith_band(deg: np.ndarray, engage_deg: float, smoothing_deg: float, le
     """An orthosis's band per unit stiffness: exp(k(I₁ − 3)²)·(λ − λ⁻²) for λ = 1 + θ̄/L, θ̄ the softplus (over
     ``smoothing_deg``) of the bend past ``engage_deg`` (zero at 0°), L = ``length_deg``."""
     d = np.asarray(deg, dtype=float)
-    bend = _softplus(d - engage_deg, smoothing_deg) - float(_softplus(np.array(-engage_deg), smoothing_deg))
+    bend = softplus(d - engage_deg, smoothing_deg) - float(softplus(np.array(-engage_deg), smoothing_deg))
     lam = 1.0 + np.clip(bend, 0.0, None) / length_deg
     invariant = lam * lam + 2.0 / lam
     return np.asarray(np.exp(k * (invariant - 3.0) ** 2) * (lam - lam**-2), dtype=float)

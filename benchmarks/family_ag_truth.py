@@ -76,6 +76,7 @@ from .family_scaffold import (
     kinematics,
     limb_load,
     protocol_set_up,
+    softplus,
     trial_rng,
 )
 
@@ -86,14 +87,10 @@ COUPLING_SHIFT = (0.05, 0.2)
 CONTACT_REFERENCE_DEG_S = 5.0
 
 
-def _softplus(x_deg: np.ndarray, smoothing_deg: float) -> np.ndarray:
-    return np.asarray(smoothing_deg * np.logaddexp(0.0, np.asarray(x_deg, dtype=float) / smoothing_deg), dtype=float)
-
-
 def swanson_tension(x_deg: np.ndarray, smoothing_deg: float, reach_deg: float, power: float) -> np.ndarray:
     """An end per unit modulus: (λ − λ⁻²)·(I₁/3)^α, I₁ = λ² + 2/λ, λ = 1 + x̄/L with x̄ the softplus of the angle
     ``x_deg`` past the onset over ``smoothing_deg``, L = ``reach_deg``, α = ``power``."""
-    lam = 1.0 + _softplus(x_deg, smoothing_deg) / reach_deg
+    lam = 1.0 + softplus(x_deg, smoothing_deg) / reach_deg
     invariant = lam * lam + 2.0 / lam
     return np.asarray((lam - lam**-2) * (invariant / 3.0) ** power, dtype=float)
 
@@ -102,7 +99,7 @@ def rolling_cantilever(deg: np.ndarray, engage_deg: float, smoothing_deg: float,
     """An orthosis per unit initial stiffness (N·m/deg): ½θ_m((1 − θ̄/θ_m)⁻² − 1), the integral of k₀/(1 − θ/θ_m)³,
     θ̄ the softplus (over ``smoothing_deg``) of the bend past ``engage_deg`` (zero at 0°), θ_m = ``limit_deg``."""
     d = np.asarray(deg, dtype=float)
-    bend = _softplus(d - engage_deg, smoothing_deg) - float(_softplus(np.array(-engage_deg), smoothing_deg))
+    bend = softplus(d - engage_deg, smoothing_deg) - float(softplus(np.array(-engage_deg), smoothing_deg))
     share = np.clip(bend, 0.0, None) / limit_deg
     return np.asarray(0.5 * limit_deg * ((1.0 - share) ** -2 - 1.0), dtype=float)
 

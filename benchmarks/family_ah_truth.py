@@ -71,6 +71,7 @@ from .family_scaffold import (
     kinematics,
     limb_load,
     protocol_set_up,
+    softplus,
     trial_rng,
 )
 
@@ -79,14 +80,10 @@ NOISE_SD_NM = {"afo": 0.07, "knee": 0.15, "ankle": 0.11}
 COUPLING_SHIFT = (0.05, 0.2)
 
 
-def _softplus(x_deg: np.ndarray, smoothing_deg: float) -> np.ndarray:
-    return np.asarray(smoothing_deg * np.logaddexp(0.0, np.asarray(x_deg, dtype=float) / smoothing_deg), dtype=float)
-
-
 def carroll_tension(x_deg: np.ndarray, smoothing_deg: float, reach_deg: float, quartic: float, root: float) -> np.ndarray:
     """An end per unit a: 2(λ − λ⁻²)(1 + 4β·I₁³ + γ/(2λ√I₂)), λ = 1 + x̄/L, x̄ the softplus of the angle ``x_deg``
     past the onset over ``smoothing_deg``, L = ``reach_deg``, β = ``quartic``, γ = ``root``."""
-    lam = 1.0 + _softplus(x_deg, smoothing_deg) / reach_deg
+    lam = 1.0 + softplus(x_deg, smoothing_deg) / reach_deg
     i1 = lam * lam + 2.0 / lam
     i2 = 2.0 * lam + lam**-2
     return np.asarray(2.0 * (lam - lam**-2) * (1.0 + 4.0 * quartic * i1**3 + root / (2.0 * lam * np.sqrt(i2))), dtype=float)
@@ -96,7 +93,7 @@ def gas_spring(deg: np.ndarray, engage_deg: float, smoothing_deg: float, closing
     """An orthosis per unit p₀: (1 − θ̄/θ_c)^(−γ) − 1, θ̄ the softplus (over ``smoothing_deg``) of the bend past
     ``engage_deg`` (zero at 0°), θ_c = ``closing_deg``, γ = ``exponent``."""
     d = np.asarray(deg, dtype=float)
-    bend = _softplus(d - engage_deg, smoothing_deg) - float(_softplus(np.array(-engage_deg), smoothing_deg))
+    bend = softplus(d - engage_deg, smoothing_deg) - float(softplus(np.array(-engage_deg), smoothing_deg))
     share = np.clip(bend, 0.0, None) / closing_deg
     return np.asarray((1.0 - share) ** -exponent - 1.0, dtype=float)
 

@@ -159,6 +159,12 @@ def behind_strap(deg: np.ndarray, give: Callable[[np.ndarray], np.ndarray]) -> n
     return 0.5 * (low + high)
 
 
+def softplus(x_deg: np.ndarray, smoothing_deg: float) -> np.ndarray:
+    """A smooth ramp (deg): ``smoothing_deg``·ln(1 + e^(x/smoothing_deg)), zero far below 0 and ``x_deg`` far above it
+    (the passive ends' and orthoses' engagement, the thirty-second to thirty-fourth families)."""
+    return np.asarray(smoothing_deg * np.logaddexp(0.0, np.asarray(x_deg, dtype=float) / smoothing_deg), dtype=float)
+
+
 def kinematics(deg: np.ndarray, rate: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(time s, angle rad, angular velocity rad/s, angular acceleration rad/s²) of an angle (degrees) sampled at
     ``rate`` Hz (central differences)."""
@@ -169,4 +175,4 @@ def kinematics(deg: np.ndarray, rate: float) -> tuple[np.ndarray, np.ndarray, np
 
 
 __all__ = ["GRAVITY", "LimbLoad", "behind_strap", "coupled_onsets", "damage_recording", "draw_segments", "draw_subject",
-           "kinematics", "limb_load", "protocol_set_up", "segment_direction", "trial_rng"]
+           "kinematics", "limb_load", "protocol_set_up", "segment_direction", "softplus", "trial_rng"]

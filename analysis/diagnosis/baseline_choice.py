@@ -7,9 +7,9 @@ terms) leaves a residual many times the noise: every other cause is then judged 
 none is named. The remedy is the one the causes get: a model extension judged by the same criterion. One more
 exponential at either end, its rate the best of :data:`causes.SMOOTH_END_RATES_PER_RAD` (the smooth rival a stop is
 judged against), joins the baseline when it lowers the criterion by more than the search's ``min_delta_bic`` (its
-rate counted as a parameter) and predicts held-out blocks better by the search's ``min_heldout_gain``. At most one
-per end, the better end first. A stop is then judged against this baseline, still by its own tests (a stop is a kink;
-the adopted end is smooth).
+rate counted as a parameter) and predicts held-out blocks better by the search's ``min_heldout_gain``. At most two,
+the better-fitting first, at either end (a second rate at the same end too). A stop is then judged against this
+baseline, still by its own tests (a stop is a kink; the adopted end is smooth).
 
 A smooth end is adopted only where it fits better than a kink at the best angle would (a hinge stop: the same count of
 parameters): without that, the development generator's hinge stops at 21° on a linear spring (the AADS test's) were

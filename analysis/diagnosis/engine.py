@@ -550,9 +550,7 @@ class _Search:
         parameters, told apart by the data."""
         key = "+".join(model)
         if key not in self._smooth:
-            _, f = self.fit(model)
-            stop = math.radians(f.params["stop_angle_deg"])
-            end = "high" if stop >= 0.5 * (self.prep.lo + self.prep.hi) else "low"
+            end = self.stop_end(model)
             others = tuple(n for n in model if n != "hard_stop")
             rival = self.library[others[0]] if others else self.library["none"]
             start = self.fit(others)[1].nonlinear if others else ()
@@ -574,13 +572,17 @@ class _Search:
                                                          self.folds_of(model)[1]))
         return self._smooth[key]
 
+    def stop_end(self, model: tuple[str, ...]) -> str:
+        """The end of the range (``"low"``/``"high"``) the stop in ``model`` sits nearer."""
+        stop = math.radians(self.fit(model)[1].params["stop_angle_deg"])
+        return "high" if stop >= 0.5 * (self.prep.lo + self.prep.hi) else "low"
+
     def at_adopted_end(self, model: tuple[str, ...]) -> bool:
         """Whether the stop in ``model`` sits at an end where the baseline adopted a steeper passive curve
-        (baseline_choice): the data there already preferred a smooth stiffening, and a stop beside it is the same curve
-        steeper still, which one trial cannot tell from the spring's."""
-        stop = math.radians(self.fit(model)[1].params["stop_angle_deg"])
-        end = "high" if stop >= 0.5 * (self.prep.lo + self.prep.hi) else "low"
-        return any(e == end for e, _ in self.prep.end_terms) and self.prep.trial.kind == "afo"
+        (baseline_choice, the only source of the signals' end terms): the data there already preferred a smooth
+        stiffening, and a stop beside it is the same curve steeper still, which one trial cannot tell from the spring's."""
+        end = self.stop_end(model)
+        return any(e == end for e, _ in self.prep.end_terms)
 
     def stop_beats_smooth_rival(self, model: tuple[str, ...]) -> bool:
         """Whether the stop in ``model`` predicts held-out blocks better than a smooth stiffening at its end by

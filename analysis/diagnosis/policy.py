@@ -72,7 +72,7 @@ MIN_PEAK_TO_NOISE = 2.0
 #: beside a burst in the spent families swung 1.2–1.6 ×, so twice the noise (MIN_PEAK_TO_NOISE, tried first) lost 12 of
 #: 41 such drifts on 48 development pairs (docs/validation.md, fortieth stop). Play of 0.02–0.06° in the angle's coupling
 #: (the thirty-first family) makes a loop as wide as the play times the spring's stiffness, named a Dahl friction in 14 and
-#: a damping in 3 of its 20 clean orthosis trials on 483c5b4 at 0.2–0.6 × the noise; the floor on friction alone (measured
+#: a damping in 3 of its 20 clean orthosis trials on 483c5b4 at 0.2–0.9 × the noise; the floor on friction alone (measured
 #: at the fortieth stop) moved 10 of those 14 to a damping: both loops share it (forty-first stop)
 MIN_SWING_TO_NOISE = 1.0
 #: the causes that floor applies to
